@@ -1,0 +1,464 @@
+//! The algorithms, each written once over [`Lanes`] (scalar, SSE4.1, AVX, AVX2+FMA all
+//! instantiate these same functions).
+//!
+//! Precision policy (see ARCHITECTURE.md):
+//! - every query first scales its input by one power of two so that the largest absolute
+//!   coordinate lies in [1, 2): the scaling is exact, so power-of-two scaling of the input scales
+//!   the answer exactly, no intermediate (up to fourth powers of coordinates) can overflow or
+//!   underflow, and every threshold below is relative to the pair's own magnitude;
+//! - non-finite input gives NaN (checked up front, masked per lane);
+//! - every division is guarded (`safe_div`), so degenerate segments and triangles give the
+//!   distance of the point or segment they are instead of NaN;
+//! - the triangle-triangle early exits are *certified*: an edge pair is accepted only when the
+//!   plane through its closest points separates all six vertices, so nearly parallel edges
+//!   (the PQP/FCL trap) cannot end the search with a wrong pair.
+
+use crate::lanes::{Lanes, Mask, V3};
+use crate::real::Real;
+
+/// Squared distance and a pair of closest points (first on the first primitive).
+#[derive(Clone, Copy)]
+pub(crate) struct Res<L> {
+    pub d: L,
+    pub p: V3<L>,
+    pub q: V3<L>,
+}
+
+#[inline(always)]
+fn c<L: Lanes>(x: f64) -> L {
+    L::splat(L::S::from_f64(x))
+}
+
+#[inline(always)]
+fn u<L: Lanes>() -> L {
+    L::splat(L::S::UNIT_ROUNDOFF)
+}
+
+#[inline(always)]
+fn true_mask<L: Lanes>() -> L::M {
+    L::zero().le(L::zero())
+}
+
+/// Input scaled by a power of two: `pts[k] = input[k] / p`.
+pub(crate) struct Scaled<L: Lanes, const K: usize> {
+    pub pts: [V3<L>; K],
+    pub p: L,
+    pub finite: L::M,
+}
+
+/// Scales all points by one power of two so that the largest absolute coordinate is in [1, 2)
+/// (or below 1 for all-subnormal input). Exact except for coordinates that become subnormal,
+/// which are then below 2^-126 (f32) of the largest one.
+#[inline(always)]
+pub(crate) fn prescale<L: Lanes, const K: usize>(pts: [V3<L>; K]) -> Scaled<L, K> {
+    let big = L::splat(L::S::MAX);
+    let mut m = L::splat(L::S::MIN_POSITIVE);
+    let mut finite = true_mask::<L>();
+    for v in &pts {
+        for x in [v.x, v.y, v.z] {
+            let a = x.abs();
+            finite = finite.and(a.le(big));
+            m = m.max(a);
+        }
+    }
+    let p = m.exponent();
+    let inv = L::one().div(p);
+    let mut out = pts;
+    for v in out.iter_mut() {
+        *v = v.scale(inv);
+    }
+    if !finite.all() {
+        // Keep NaN/inf out of the arithmetic (it would defeat the early exits); the lane's
+        // result is replaced by NaN at the end.
+        for v in out.iter_mut() {
+            *v = V3::select(finite, *v, V3::zero());
+        }
+    }
+    Scaled { pts: out, p, finite }
+}
+
+/// Undoes [`prescale`] on a result: squared distance times p^2, points times p; NaN for
+/// non-finite input lanes. Overflow of the squared distance gives +inf (documented).
+#[inline(always)]
+pub(crate) fn unscale<L: Lanes>(r: Res<L>, p: L, finite: L::M) -> Res<L> {
+    let big = p.ge(L::one());
+    // For p >= 1, (d*p)*p rounds once (d*p is exact); for p < 1, p*p is exact unless it
+    // underflows, in which case the answer is below 2^-145 (f32) anyway.
+    let d = L::select(big, r.d.mul(p).mul(p), r.d.mul(p.mul(p)));
+    let nan = L::splat(L::S::NAN);
+    let fix = |v: V3<L>| V3::select(finite, v.scale(p), V3::new(nan, nan, nan));
+    Res { d: L::select(finite, d, nan), p: fix(r.p), q: fix(r.q) }
+}
+
+/// Closest points of segments `p1 + s*d1` and `p2 + t*d2`, s, t in [0, 1]
+/// (Ericson, Real-Time Collision Detection 5.1.9), with a relative parallelism test and
+/// guarded divisions for zero-length segments. Input must be prescaled.
+#[inline(always)]
+pub(crate) fn seg_seg<L: Lanes>(p1: V3<L>, d1: V3<L>, p2: V3<L>, d2: V3<L>) -> Res<L> {
+    let r = p1.sub(p2);
+    let a = d1.norm2();
+    let e = d2.norm2();
+    let b = d1.dot(d2);
+    let cc = d1.dot(r);
+    let f = d2.dot(r);
+    let ae = a.mul(e);
+    let denom = ae.sub(b.mul(b));
+    // Relative parallelism: a*e - b^2 = |d1 x d2|^2 = a*e*sin^2(angle). The rounding error of
+    // the difference is a few u*a*e, so below that the sign and size are noise.
+    let parallel = denom.le(ae.mul(u::<L>().mul(c(8.0))));
+    let s0 = b.mul(f).sub(cc.mul(e)).safe_div(denom).clamp01();
+    let s0 = L::select(parallel, L::zero(), s0);
+    let t = b.mul_add(s0, f).safe_div(e).clamp01();
+    // Re-project s from the (clamped) t; equal to s0 when t was not clamped.
+    let s = b.mul_add(t, cc.neg()).safe_div(a).clamp01();
+    let p = p1.add_scaled(d1, s);
+    let q = p2.add_scaled(d2, t);
+    Res { d: p.sub(q).norm2(), p, q }
+}
+
+/// Closest point to `x` on segment `a + t*d`.
+#[inline(always)]
+fn point_segment<L: Lanes>(x: V3<L>, a: V3<L>, d: V3<L>) -> V3<L> {
+    let t = x.sub(a).dot(d).safe_div(d.norm2()).clamp01();
+    a.add_scaled(d, t)
+}
+
+/// Is the triangle with edges `ab`, `ac` degenerate (its normal is below the rounding noise of
+/// the cross product)? Relative test.
+#[inline(always)]
+pub(crate) fn degenerate<L: Lanes>(ab: V3<L>, ac: V3<L>) -> L::M {
+    let n = ab.cross(ac);
+    let tol = u::<L>().mul(c(16.0));
+    let bound = ab.norm2().mul(ac.norm2()).mul(tol).mul(tol);
+    n.norm2().le(bound)
+}
+
+/// Closest point on triangle (a, b, c) to `x` (Ericson 5.1.5, Voronoi regions written with
+/// masks). Degenerate (collinear or point-like) triangles are handled as the segments they are.
+/// Input must be prescaled. Returns `Res { p: x, q: closest point }`.
+#[inline(always)]
+pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) -> Res<L> {
+    let ab = b.sub(a);
+    let ac = cv.sub(a);
+    let ap = x.sub(a);
+    let d1 = ab.dot(ap);
+    let d2 = ac.dot(ap);
+    let z = L::zero();
+    // Regions are tested in Ericson's order; the first match wins (`done` tracks it).
+    let m_a = d1.le(z).and(d2.le(z));
+    let mut q = a;
+    let mut done = m_a;
+    let bp = x.sub(b);
+    let d3 = ab.dot(bp);
+    let d4 = ac.dot(bp);
+    let m_b = d3.ge(z).and(d4.le(d3)).andnot(done);
+    q = V3::select(m_b, b, q);
+    done = done.or(m_b);
+    let vc = d1.mul(d4).sub(d3.mul(d2));
+    let m_ab = vc.le(z).and(d1.ge(z)).and(d3.le(z)).andnot(done);
+    if m_ab.any() {
+        let v = d1.safe_div(d1.sub(d3));
+        q = V3::select(m_ab, a.add_scaled(ab, v), q);
+    }
+    done = done.or(m_ab);
+    let cp = x.sub(cv);
+    let d5 = ab.dot(cp);
+    let d6 = ac.dot(cp);
+    let m_c = d6.ge(z).and(d5.le(d6)).andnot(done);
+    q = V3::select(m_c, cv, q);
+    done = done.or(m_c);
+    let vb = d5.mul(d2).sub(d1.mul(d6));
+    let m_ac = vb.le(z).and(d2.ge(z)).and(d6.le(z)).andnot(done);
+    if m_ac.any() {
+        let w = d2.safe_div(d2.sub(d6));
+        q = V3::select(m_ac, a.add_scaled(ac, w), q);
+    }
+    done = done.or(m_ac);
+    let va = d3.mul(d6).sub(d5.mul(d4));
+    let d43 = d4.sub(d3);
+    let d56 = d5.sub(d6);
+    let m_bc = va.le(z).and(d43.ge(z)).and(d56.ge(z)).andnot(done);
+    if m_bc.any() {
+        let w = d43.safe_div(d43.add(d56));
+        q = V3::select(m_bc, b.add_scaled(cv.sub(b), w), q);
+    }
+    done = done.or(m_bc);
+    if !done.all() {
+        let denom = va.add(vb).add(vc);
+        let v = vb.safe_div(denom);
+        let w = vc.safe_div(denom);
+        q = V3::select(done, q, a.add_scaled(ab, v).add_scaled(ac, w));
+    }
+    let deg = degenerate(ab, ac);
+    if deg.any() {
+        // A degenerate triangle is the union of its edges.
+        let mut best = point_segment(x, a, ab);
+        let mut bd = x.sub(best).norm2();
+        for (o, d) in [(a, ac), (b, cv.sub(b))] {
+            let cand = point_segment(x, o, d);
+            let cd = x.sub(cand).norm2();
+            let better = cd.lt(bd);
+            best = V3::select(better, cand, best);
+            bd = L::select(better, cd, bd);
+        }
+        q = V3::select(deg, best, q);
+    }
+    Res { d: x.sub(q).norm2(), p: x, q }
+}
+
+/// Keeps the better (smaller squared distance) of two results per lane.
+#[inline(always)]
+fn keep_min<L: Lanes>(best: &mut Res<L>, cand: Res<L>) {
+    let better = cand.d.lt(best.d);
+    best.d = L::select(better, cand.d, best.d);
+    best.p = V3::select(better, cand.p, best.p);
+    best.q = V3::select(better, cand.q, best.q);
+}
+
+#[inline(always)]
+fn swap<L: Lanes>(r: Res<L>) -> Res<L> {
+    Res { d: r.d, p: r.q, q: r.p }
+}
+
+#[inline(always)]
+fn edges<L: Lanes>(t: &[V3<L>; 3]) -> [V3<L>; 3] {
+    [t[1].sub(t[0]), t[2].sub(t[1]), t[0].sub(t[2])]
+}
+
+/// Projection interval test on one axis: true where the axis separates the triangles.
+#[inline(always)]
+fn separated_on<L: Lanes>(ax: V3<L>, s: &[V3<L>; 3], t: &[V3<L>; 3]) -> L::M {
+    let p0 = ax.dot(s[0]);
+    let p1 = ax.dot(s[1]);
+    let p2 = ax.dot(s[2]);
+    let q0 = ax.dot(t[0]);
+    let q1 = ax.dot(t[1]);
+    let q2 = ax.dot(t[2]);
+    let mx1 = p0.max(p1).max(p2);
+    let mn1 = p0.min(p1).min(p2);
+    let mx2 = q0.max(q1).max(q2);
+    let mn2 = q0.min(q1).min(q2);
+    mn1.gt(mx2).or(mn2.gt(mx1))
+}
+
+/// Triangle-triangle overlap by separating axes (PQP's TriContact: 2 face normals, 9 edge
+/// cross products, 6 in-plane edge normals), with an early out once every lane is separated.
+/// Touching counts as overlapping. When *both* triangles are degenerate the axes vanish, so those
+/// lanes are decided by the edge-edge distance instead. Input must be prescaled.
+#[inline(always)]
+pub(crate) fn intersect<L: Lanes>(s_in: &[V3<L>; 3], t_in: &[V3<L>; 3]) -> L::M {
+    // Work relative to s[0] (smaller magnitudes, as PQP does).
+    let o = s_in[0];
+    let s = [V3::zero(), s_in[1].sub(o), s_in[2].sub(o)];
+    let t = [t_in[0].sub(o), t_in[1].sub(o), t_in[2].sub(o)];
+    let e = edges(&s);
+    let f = edges(&t);
+    let n = e[0].cross(e[1]);
+    let m = f[0].cross(f[1]);
+    let mut sep = separated_on(n, &s, &t).or(separated_on(m, &s, &t));
+    if sep.all() {
+        return sep.not();
+    }
+    for ei in &e {
+        for fj in &f {
+            sep = sep.or(separated_on(ei.cross(*fj), &s, &t));
+        }
+        if sep.all() {
+            return sep.not();
+        }
+    }
+    for k in 0..3 {
+        sep = sep.or(separated_on(e[k].cross(n), &s, &t));
+        sep = sep.or(separated_on(f[k].cross(m), &s, &t));
+    }
+    let both_deg = degenerate(e[0], s[2].sub(s[0])).and(degenerate(f[0], t[2].sub(t[0])));
+    if both_deg.andnot(sep).any() {
+        // Two segments/points: they touch iff an edge pair is at distance zero.
+        let mut dmin = L::splat(L::S::INFINITY);
+        for i in 0..3 {
+            for j in 0..3 {
+                dmin = dmin.min(seg_seg(s[i], e[i], t[j], f[j]).d);
+            }
+        }
+        sep = L::select_mask(both_deg, dmin.gt(L::zero()), sep);
+    }
+    sep.not()
+}
+
+/// Minimum over the 15 feature pairs (9 edge-edge, 6 vertex-face), the brute-force baseline of
+/// Krestenitis & Koziara. Does not detect interpenetration.
+#[inline(always)]
+fn min15<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> Res<L> {
+    let e = edges(s);
+    let f = edges(t);
+    let mut best = seg_seg(s[0], e[0], t[0], f[0]);
+    for i in 0..3 {
+        for j in 0..3 {
+            if i + j > 0 {
+                keep_min(&mut best, seg_seg(s[i], e[i], t[j], f[j]));
+            }
+        }
+    }
+    vertex_faces(s, t, &mut best);
+    best
+}
+
+#[inline(always)]
+fn vertex_faces<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
+    for k in 0..3 {
+        keep_min(best, swap(point_triangle(s[k], t[0], t[1], t[2])));
+        keep_min(best, point_triangle(t[k], s[0], s[1], s[2]));
+    }
+}
+
+/// For interpenetrating lanes: a point where an edge of one triangle pierces the other (or the
+/// nearest feature pair when none is found numerically), so that both returned closest points
+/// lie on their triangles. The distance reported is 0 regardless.
+#[inline(always)]
+fn contact_points<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
+    let pierce = |a: &[V3<L>; 3], b: &[V3<L>; 3], flip: bool, best: &mut Res<L>| {
+        let ea = edges(a);
+        let n = b[1].sub(b[0]).cross(b[2].sub(b[0]));
+        for k in 0..3 {
+            let h0 = a[k].sub(b[0]).dot(n);
+            let h1 = a[(k + 1) % 3].sub(b[0]).dot(n);
+            // Parameter of the plane crossing, clamped to the edge (guarded for edges in plane).
+            let tpar = h0.safe_div(h0.sub(h1)).clamp01();
+            let tpar = L::select(h0.sub(h1).abs().gt(L::zero()), tpar, L::zero());
+            let x = a[k].add_scaled(ea[k], tpar);
+            let r = point_triangle(x, b[0], b[1], b[2]);
+            keep_min(best, if flip { swap(r) } else { r });
+        }
+    };
+    pierce(s, t, false, best);
+    pierce(t, s, true, best);
+}
+
+/// Brute force: `intersect ? 0 : min15`, both computed for every lane.
+#[inline(always)]
+pub(crate) fn tri_tri_brute<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> Res<L> {
+    let mut best = min15(s, t);
+    let hit = intersect(s, t);
+    if hit.any() {
+        let mut cp = best;
+        contact_points(s, t, &mut cp);
+        best.p = V3::select(hit, cp.p, best.p);
+        best.q = V3::select(hit, cp.q, best.q);
+        best.d = L::select(hit, L::zero(), best.d);
+    }
+    best
+}
+
+/// One side of PQP's vertex-face case: if all of `t` lies strictly (beyond rounding) on one side
+/// of `s`'s plane, the triangles are disjoint and the vertex of `t` nearest that plane is the
+/// only vertex-face candidate. Returns (shown disjoint, candidate).
+#[inline(always)]
+fn plane_side<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> (L::M, Res<L>) {
+    let e0 = s[1].sub(s[0]);
+    let e1 = s[2].sub(s[0]);
+    let n = e0.cross(e1);
+    let h = [t[0].sub(s[0]).dot(n), t[1].sub(s[0]).dot(n), t[2].sub(s[0]).dot(n)];
+    let reach = t[0].sub(s[0]).norm_inf().max(t[1].sub(s[0]).norm_inf()).max(t[2].sub(s[0]).norm_inf());
+    // Error of h: the cross product's own rounding (a few u*|e0||e1|) times the reach, plus
+    // the dot product's. Relative to the data; large for slivers (then the fallback decides).
+    let tol = u::<L>().mul(c(32.0)).mul(e0.norm1().mul(e1.norm1())).mul(reach);
+    let z = L::zero();
+    let ntol = z.sub(tol);
+    let above = h[0].gt(tol).and(h[1].gt(tol)).and(h[2].gt(tol));
+    let below = h[0].lt(ntol).and(h[1].lt(ntol)).and(h[2].lt(ntol));
+    let side = above.or(below);
+    let a = [h[0].abs(), h[1].abs(), h[2].abs()];
+    let m01 = a[1].lt(a[0]);
+    let v01 = V3::select(m01, t[1], t[0]);
+    let a01 = L::select(m01, a[1], a[0]);
+    let v = V3::select(a[2].lt(a01), t[2], v01);
+    (side, point_triangle(v, s[0], s[1], s[2]))
+}
+
+/// Triangle-triangle distance after PQP's TriDist (Larsen et al.; seed 000 listing 13):
+/// 9 edge pairs with an early exit, then the vertex-face case, then "shown disjoint ? edge
+/// minimum : overlapping". Made robust: the early exit is certified against all six vertices,
+/// the disjointness tests carry rounding margins, and lanes that stay undecided get the brute
+/// force answer instead of PQP's unconditional 0. Input must be prescaled.
+#[inline(always)]
+pub(crate) fn tri_tri_pqp<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> Res<L> {
+    let e = edges(s);
+    let f = edges(t);
+    let inf = L::splat(L::S::INFINITY);
+    let mut best = Res { d: inf, p: s[0], q: t[0] };
+    let mut done = L::zero().lt(L::zero()); // false mask
+    let mut disjoint = done;
+    let z = L::zero();
+    let tol_k = u::<L>().mul(c(64.0));
+    'pairs: for i in 0..3 {
+        for j in 0..3 {
+            let r = seg_seg(s[i], e[i], t[j], f[j]);
+            let v = r.q.sub(r.p);
+            // Plane through the pair, normal v: S must lie on the near side, T on the far side.
+            let sp = v.dot(r.p);
+            let tq = v.dot(r.q);
+            let mut max_s = v.dot(s[0]).sub(sp);
+            let mut min_t = v.dot(t[0]).sub(tq);
+            for k in 1..3 {
+                max_s = max_s.max(v.dot(s[k]).sub(sp));
+                min_t = min_t.min(v.dot(t[k]).sub(tq));
+            }
+            let cert = max_s.le(z).and(min_t.ge(z)).andnot(done);
+            let better = r.d.lt(best.d).andnot(done).or(cert);
+            best.d = L::select(better, r.d, best.d);
+            best.p = V3::select(better, r.p, best.p);
+            best.q = V3::select(better, r.q, best.q);
+            done = done.or(cert);
+            // Separated along v by more than the rounding of these dot products.
+            let gap = r.d.sub(max_s).add(min_t);
+            disjoint = disjoint.or(gap.gt(tol_k.mul(v.norm1())));
+            if done.all() {
+                break 'pairs;
+            }
+        }
+    }
+    if done.all() {
+        return best;
+    }
+    let (side_s, cand_s) = plane_side(s, t);
+    let (side_t, cand_t) = plane_side(t, s);
+    disjoint = disjoint.or(side_s).or(side_t);
+    let mut vf = best;
+    keep_min(&mut vf, L::select_res(side_s, swap(cand_s), best));
+    keep_min(&mut vf, L::select_res(side_t, cand_t, best));
+    let keep = done.not();
+    best = L::select_res(keep, vf, best);
+    let undecided = done.or(disjoint).not();
+    if undecided.any() {
+        let brute = tri_tri_brute(s, t);
+        best = L::select_res(undecided, brute, best);
+    }
+    best
+}
+
+/// Lower bound on the distance of two triangles from their bounding boxes (squared).
+#[inline(always)]
+pub(crate) fn aabb_gap2<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> L {
+    let axis = |g: fn(&V3<L>) -> L| {
+        let (a0, a1, a2) = (g(&s[0]), g(&s[1]), g(&s[2]));
+        let (b0, b1, b2) = (g(&t[0]), g(&t[1]), g(&t[2]));
+        let lo_s = a0.min(a1).min(a2);
+        let hi_s = a0.max(a1).max(a2);
+        let lo_t = b0.min(b1).min(b2);
+        let hi_t = b0.max(b1).max(b2);
+        let gap = lo_t.sub(hi_s).max(lo_s.sub(hi_t)).max(L::zero());
+        gap.mul(gap)
+    };
+    axis(|v| v.x).add(axis(|v| v.y)).add(axis(|v| v.z))
+}
+
+/// Helpers for selecting whole results and masks.
+pub(crate) trait SelectExt: Lanes {
+    fn select_res(m: Self::M, a: Res<Self>, b: Res<Self>) -> Res<Self> {
+        Res { d: Self::select(m, a.d, b.d), p: V3::select(m, a.p, b.p), q: V3::select(m, a.q, b.q) }
+    }
+    fn select_mask(m: Self::M, a: Self::M, b: Self::M) -> Self::M {
+        m.and(a).or(b.andnot(m))
+    }
+}
+impl<L: Lanes> SelectExt for L {}

@@ -1,0 +1,241 @@
+//! The batch driver: loads lanes from SoA columns, AoS slices or a broadcast primitive, runs one
+//! query over them, and stores the lanes the caller asked for. The tail of a batch goes through
+//! the same code: SoA columns are padded to a multiple of 8 lanes, AoS input is gathered into a
+//! padded lane buffer.
+
+use crate::algo::{self, Res, SelectExt};
+use crate::lanes::{Lanes, V3};
+use crate::real::Real;
+
+/// Which query a job runs. Hidden plumbing for [`crate::Engine`].
+#[doc(hidden)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum QueryKind {
+    SegSeg,
+    PointTri,
+    TriTri,
+    TriTriBrute,
+    Intersect,
+    Within,
+}
+
+/// Where one side's primitives come from (K points each). Hidden plumbing.
+#[doc(hidden)]
+#[derive(Clone, Copy)]
+pub enum Src<'a, T> {
+    /// Padded SoA columns: coordinate `j` (0..3K) of primitive `i` is `data[j * cap + i]`.
+    Soa { data: &'a [T], cap: usize, k: usize },
+    /// AoS: primitive `i` is `flat[i*3K .. (i+1)*3K]`.
+    Aos { flat: &'a [T], len: usize, k: usize },
+    /// One primitive against every primitive of the other side.
+    One { flat: &'a [T], k: usize },
+}
+
+/// Caller-provided outputs. Hidden plumbing.
+#[doc(hidden)]
+pub enum DOut<'a, T> {
+    Real(&'a mut [T]),
+    Flag(&'a mut [Option<bool>]),
+}
+
+/// One batch query. Hidden plumbing.
+#[doc(hidden)]
+pub struct Job<'a, T> {
+    pub query: QueryKind,
+    pub a: Src<'a, T>,
+    pub b: Src<'a, T>,
+    pub n: usize,
+    pub param: T,
+    pub d: DOut<'a, T>,
+    pub p: Option<&'a mut [[T; 3]]>,
+    pub q: Option<&'a mut [[T; 3]]>,
+}
+
+impl<T: Real> Src<'_, T> {
+    #[inline(always)]
+    fn k(&self) -> usize {
+        match *self {
+            Src::Soa { k, .. } | Src::Aos { k, .. } | Src::One { k, .. } => k,
+        }
+    }
+    #[inline(always)]
+    fn coord<L: Lanes<S = T>>(&self, i: usize, j: usize) -> L {
+        match *self {
+            Src::Soa { data, cap, .. } => L::load(&data[j * cap + i..]),
+            Src::One { flat, .. } => L::splat(flat[j]),
+            Src::Aos { flat, len, k } => {
+                if L::N == 1 {
+                    L::splat(flat[i * 3 * k + j])
+                } else {
+                    let mut buf = [T::ZERO; 8];
+                    for (l, slot) in buf.iter_mut().enumerate().take(L::N) {
+                        // Pad the tail with the last primitive (a valid, finite-if-input-is input).
+                        let ii = (i + l).min(len - 1);
+                        *slot = flat[ii * 3 * k + j];
+                    }
+                    L::load(&buf)
+                }
+            }
+        }
+    }
+    #[inline(always)]
+    fn load<L: Lanes<S = T>>(&self, i: usize) -> [V3<L>; 3] {
+        let mut out = [V3::zero(); 3];
+        for (v, slot) in out.iter_mut().enumerate().take(self.k()) {
+            *slot = V3::new(self.coord(i, 3 * v), self.coord(i, 3 * v + 1), self.coord(i, 3 * v + 2));
+        }
+        out
+    }
+}
+
+/// Segment-segment query on raw (unscaled) input.
+#[inline(always)]
+pub(crate) fn q_seg_seg<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> Res<L> {
+    let sc = algo::prescale([a[0], a[1], b[0], b[1]]);
+    let [p1, q1, p2, q2] = sc.pts;
+    algo::unscale(algo::seg_seg(p1, q1.sub(p1), p2, q2.sub(p2)), sc.p, sc.finite)
+}
+
+/// Point-triangle query on raw input (`a[0]` is the point).
+#[inline(always)]
+pub(crate) fn q_point_tri<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> Res<L> {
+    let sc = algo::prescale([a[0], b[0], b[1], b[2]]);
+    let [x, t0, t1, t2] = sc.pts;
+    algo::unscale(algo::point_triangle(x, t0, t1, t2), sc.p, sc.finite)
+}
+
+#[inline(always)]
+fn scale_tris<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> algo::Scaled<L, 6> {
+    algo::prescale([a[0], a[1], a[2], b[0], b[1], b[2]])
+}
+
+#[inline(always)]
+fn split<L: Lanes>(p: [V3<L>; 6]) -> ([V3<L>; 3], [V3<L>; 3]) {
+    ([p[0], p[1], p[2]], [p[3], p[4], p[5]])
+}
+
+/// Triangle-triangle distance on raw input (PQP, or brute force when `BRUTE`).
+#[inline(always)]
+pub(crate) fn q_tri_tri<L: Lanes, const BRUTE: bool>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> Res<L> {
+    let sc = scale_tris(a, b);
+    let (s, t) = split(sc.pts);
+    let r = if BRUTE { algo::tri_tri_brute(&s, &t) } else { algo::tri_tri_pqp(&s, &t) };
+    algo::unscale(r, sc.p, sc.finite)
+}
+
+/// Intersection on raw input, encoded as a distance: 0 = overlap, 1 = disjoint, NaN = invalid.
+#[inline(always)]
+pub(crate) fn q_intersect<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> Res<L> {
+    let sc = scale_tris(a, b);
+    let (s, t) = split(sc.pts);
+    let hit = algo::intersect(&s, &t);
+    let d = L::select(hit, L::zero(), L::one());
+    let d = L::select(sc.finite, d, L::splat(L::S::NAN));
+    Res { d, p: V3::zero(), q: V3::zero() }
+}
+
+/// Within-margin on raw input: the squared distance when it is at most `margin^2`, else +inf.
+/// Pairs whose bounding boxes are farther apart than the margin skip the distance query.
+#[inline(always)]
+pub(crate) fn q_within<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3], margin: L::S) -> Res<L> {
+    let sc = scale_tris(a, b);
+    let (s, t) = split(sc.pts);
+    let m = L::splat(margin).div(sc.p);
+    let m2 = m.mul(m);
+    let inf = L::splat(L::S::INFINITY);
+    // The box gap is a lower bound up to rounding; keep a relative margin so that no pair within
+    // the margin is skipped.
+    let slack = L::one().add(L::splat(L::S::UNIT_ROUNDOFF).mul(L::splat(L::S::from_f64(16.0))));
+    let far = algo::aabb_gap2(&s, &t).gt(m2.mul(slack));
+    let r = if far.all() {
+        Res { d: inf, p: V3::zero(), q: V3::zero() }
+    } else {
+        let full = algo::tri_tri_pqp(&s, &t);
+        let beyond = far.or(full.d.gt(m2));
+        L::select_res(beyond, Res { d: inf, p: full.p, q: full.q }, full)
+    };
+    algo::unscale(r, sc.p, sc.finite)
+}
+
+#[inline(always)]
+fn store_lanes<L: Lanes>(v: L, out: &mut [L::S], i: usize, n: usize) {
+    if i + L::N <= n {
+        v.store(&mut out[i..]);
+    } else {
+        let mut buf = [L::S::ZERO; 8];
+        v.store(&mut buf);
+        out[i..n].copy_from_slice(&buf[..n - i]);
+    }
+}
+
+#[inline(always)]
+fn store_points<L: Lanes>(v: V3<L>, out: &mut [[L::S; 3]], i: usize, n: usize) {
+    let mut b = [[L::S::ZERO; 8]; 3];
+    v.x.store(&mut b[0]);
+    v.y.store(&mut b[1]);
+    v.z.store(&mut b[2]);
+    for l in 0..(n - i).min(L::N) {
+        out[i + l] = [b[0][l], b[1][l], b[2][l]];
+    }
+}
+
+#[inline(always)]
+fn run_q<L: Lanes, const PTS: bool>(job: &mut Job<'_, L::S>, f: impl Fn(&[V3<L>; 3], &[V3<L>; 3]) -> Res<L>) {
+    let n = job.n;
+    let mut i = 0;
+    while i < n {
+        let a = job.a.load::<L>(i);
+        let b = job.b.load::<L>(i);
+        let r = f(&a, &b);
+        match &mut job.d {
+            DOut::Real(out) => store_lanes(r.d, out, i, n),
+            DOut::Flag(out) => {
+                let mut buf = [L::S::ZERO; 8];
+                r.d.store(&mut buf);
+                for l in 0..(n - i).min(L::N) {
+                    let d = buf[l];
+                    out[i + l] = if d == L::S::ZERO {
+                        Some(true)
+                    } else if d == L::S::ONE {
+                        Some(false)
+                    } else {
+                        None
+                    };
+                }
+            }
+        }
+        if PTS {
+            if let Some(p) = job.p.as_deref_mut() {
+                store_points(r.p, p, i, n);
+            }
+            if let Some(q) = job.q.as_deref_mut() {
+                store_points(r.q, q, i, n);
+            }
+        }
+        i += L::N;
+    }
+}
+
+/// Runs a job with lane type `L`. Instantiated once per ISA and precision.
+#[inline(always)]
+pub(crate) fn run<L: Lanes>(job: &mut Job<'_, L::S>) {
+    let pts = job.p.is_some() || job.q.is_some();
+    let param = job.param;
+    macro_rules! go {
+        ($f:expr) => {
+            if pts {
+                run_q::<L, true>(job, $f)
+            } else {
+                run_q::<L, false>(job, $f)
+            }
+        };
+    }
+    match job.query {
+        QueryKind::SegSeg => go!(q_seg_seg::<L>),
+        QueryKind::PointTri => go!(q_point_tri::<L>),
+        QueryKind::TriTri => go!(q_tri_tri::<L, false>),
+        QueryKind::TriTriBrute => go!(q_tri_tri::<L, true>),
+        QueryKind::Intersect => run_q::<L, false>(job, q_intersect::<L>),
+        QueryKind::Within => go!(|a: &[V3<L>; 3], b: &[V3<L>; 3]| q_within::<L>(a, b, param)),
+    }
+}

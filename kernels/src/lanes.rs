@@ -1,0 +1,270 @@
+//! The lane-generic vector trait every algorithm is written against, its 1-lane scalar
+//! implementation, and a small 3-vector of lanes.
+//!
+//! Algorithms in [`crate::algo`] are written once over [`Lanes`]; the ISA layer
+//! ([`crate::arch`]) only supplies the vector types and the `#[target_feature]` entry points.
+
+use crate::real::Real;
+
+/// A lane mask: the result of a comparison, one boolean per lane.
+pub(crate) trait Mask: Copy {
+    fn and(self, o: Self) -> Self;
+    fn or(self, o: Self) -> Self;
+    /// `self & !o`.
+    fn andnot(self, o: Self) -> Self;
+    fn not(self) -> Self;
+    fn all(self) -> bool;
+    fn any(self) -> bool;
+    #[inline(always)]
+    #[allow(dead_code)]
+    fn none(self) -> bool {
+        !self.any()
+    }
+}
+
+/// A vector of `N` lanes of one precision. Every method is `#[inline(always)]` and carries no
+/// target feature: the per-ISA entry point that instantiates an algorithm enables the features.
+pub(crate) trait Lanes: Copy {
+    type S: Real;
+    type M: Mask;
+    const N: usize;
+    fn splat(s: Self::S) -> Self;
+    /// Loads the first `N` values of `src` (panics if `src` is shorter).
+    fn load(src: &[Self::S]) -> Self;
+    /// Stores into the first `N` values of `dst` (panics if `dst` is shorter).
+    fn store(self, dst: &mut [Self::S]);
+    fn add(self, o: Self) -> Self;
+    fn sub(self, o: Self) -> Self;
+    fn mul(self, o: Self) -> Self;
+    fn div(self, o: Self) -> Self;
+    /// `self * b + c`, fused only in the FMA variants.
+    fn mul_add(self, b: Self, c: Self) -> Self;
+    /// Minimum; returns `o` when either is NaN (SSE semantics).
+    fn min(self, o: Self) -> Self;
+    /// Maximum; returns `o` when either is NaN (SSE semantics).
+    fn max(self, o: Self) -> Self;
+    fn abs(self) -> Self;
+    #[allow(dead_code)]
+    fn sqrt(self) -> Self;
+    fn lt(self, o: Self) -> Self::M;
+    fn le(self, o: Self) -> Self::M;
+    #[allow(dead_code)]
+    fn eq(self, o: Self) -> Self::M;
+    /// `m ? t : f` per lane.
+    fn select(m: Self::M, t: Self, f: Self) -> Self;
+    /// Keeps only the exponent bits: the largest power of two not above a positive normal value.
+    fn exponent(self) -> Self;
+
+    #[inline(always)]
+    fn gt(self, o: Self) -> Self::M {
+        o.lt(self)
+    }
+    #[inline(always)]
+    fn ge(self, o: Self) -> Self::M {
+        o.le(self)
+    }
+    #[inline(always)]
+    fn zero() -> Self {
+        Self::splat(Self::S::ZERO)
+    }
+    #[inline(always)]
+    fn one() -> Self {
+        Self::splat(Self::S::ONE)
+    }
+    #[inline(always)]
+    fn clamp01(self) -> Self {
+        // max first: NaN never reaches here for finite input (divisions are guarded).
+        self.max(Self::zero()).min(Self::one())
+    }
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Self::zero().sub(self)
+    }
+    /// `self / max(d, MIN_POSITIVE)`: never 0/0.
+    #[inline(always)]
+    fn safe_div(self, d: Self) -> Self {
+        self.div(d.max(Self::splat(Self::S::MIN_POSITIVE)))
+    }
+}
+
+impl Mask for bool {
+    #[inline(always)]
+    fn and(self, o: Self) -> Self {
+        self & o
+    }
+    #[inline(always)]
+    fn or(self, o: Self) -> Self {
+        self | o
+    }
+    #[inline(always)]
+    fn andnot(self, o: Self) -> Self {
+        self & !o
+    }
+    #[inline(always)]
+    fn not(self) -> Self {
+        !self
+    }
+    #[inline(always)]
+    fn all(self) -> bool {
+        self
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self
+    }
+}
+
+macro_rules! scalar_lanes {
+    ($t:ty) => {
+        impl Lanes for $t {
+            type S = $t;
+            type M = bool;
+            const N: usize = 1;
+            #[inline(always)]
+            fn splat(s: $t) -> Self {
+                s
+            }
+            #[inline(always)]
+            fn load(src: &[$t]) -> Self {
+                src[0]
+            }
+            #[inline(always)]
+            fn store(self, dst: &mut [$t]) {
+                dst[0] = self;
+            }
+            #[inline(always)]
+            fn add(self, o: Self) -> Self {
+                self + o
+            }
+            #[inline(always)]
+            fn sub(self, o: Self) -> Self {
+                self - o
+            }
+            #[inline(always)]
+            fn mul(self, o: Self) -> Self {
+                self * o
+            }
+            #[inline(always)]
+            fn div(self, o: Self) -> Self {
+                self / o
+            }
+            #[inline(always)]
+            fn mul_add(self, b: Self, c: Self) -> Self {
+                // Never fused: the scalar variants are the unfused reference.
+                self * b + c
+            }
+            #[inline(always)]
+            fn min(self, o: Self) -> Self {
+                if self < o {
+                    self
+                } else {
+                    o
+                }
+            }
+            #[inline(always)]
+            fn max(self, o: Self) -> Self {
+                if self > o {
+                    self
+                } else {
+                    o
+                }
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                <$t>::abs(self)
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                <$t>::sqrt(self)
+            }
+            #[inline(always)]
+            fn lt(self, o: Self) -> bool {
+                self < o
+            }
+            #[inline(always)]
+            fn le(self, o: Self) -> bool {
+                self <= o
+            }
+            #[inline(always)]
+            fn eq(self, o: Self) -> bool {
+                self == o
+            }
+            #[inline(always)]
+            fn select(m: bool, t: Self, f: Self) -> Self {
+                if m {
+                    t
+                } else {
+                    f
+                }
+            }
+            #[inline(always)]
+            fn exponent(self) -> Self {
+                <$t as Real>::from_bits_u64(self.to_bits() as u64 & <$t as Real>::EXP_MASK_BITS)
+            }
+        }
+    };
+}
+scalar_lanes!(f32);
+scalar_lanes!(f64);
+
+/// A 3-vector whose components are lane vectors.
+#[derive(Clone, Copy)]
+pub(crate) struct V3<L> {
+    pub x: L,
+    pub y: L,
+    pub z: L,
+}
+
+impl<L: Lanes> V3<L> {
+    #[inline(always)]
+    pub fn new(x: L, y: L, z: L) -> Self {
+        V3 { x, y, z }
+    }
+    #[inline(always)]
+    pub fn zero() -> Self {
+        V3::new(L::zero(), L::zero(), L::zero())
+    }
+    #[inline(always)]
+    pub fn sub(self, o: Self) -> Self {
+        V3::new(self.x.sub(o.x), self.y.sub(o.y), self.z.sub(o.z))
+    }
+    #[inline(always)]
+    pub fn scale(self, s: L) -> Self {
+        V3::new(self.x.mul(s), self.y.mul(s), self.z.mul(s))
+    }
+    /// `self + d * s`, fused where the variant fuses.
+    #[inline(always)]
+    pub fn add_scaled(self, d: Self, s: L) -> Self {
+        V3::new(d.x.mul_add(s, self.x), d.y.mul_add(s, self.y), d.z.mul_add(s, self.z))
+    }
+    #[inline(always)]
+    pub fn dot(self, o: Self) -> L {
+        self.x.mul_add(o.x, self.y.mul_add(o.y, self.z.mul(o.z)))
+    }
+    #[inline(always)]
+    pub fn norm2(self) -> L {
+        self.dot(self)
+    }
+    #[inline(always)]
+    pub fn cross(self, o: Self) -> Self {
+        V3::new(
+            self.y.mul(o.z).sub(self.z.mul(o.y)),
+            self.z.mul(o.x).sub(self.x.mul(o.z)),
+            self.x.mul(o.y).sub(self.y.mul(o.x)),
+        )
+    }
+    /// Sum of absolute components (an upper bound on the Euclidean norm).
+    #[inline(always)]
+    pub fn norm1(self) -> L {
+        self.x.abs().add(self.y.abs()).add(self.z.abs())
+    }
+    /// Largest absolute component.
+    #[inline(always)]
+    pub fn norm_inf(self) -> L {
+        self.x.abs().max(self.y.abs()).max(self.z.abs())
+    }
+    #[inline(always)]
+    pub fn select(m: L::M, t: Self, f: Self) -> Self {
+        V3::new(L::select(m, t.x, f.x), L::select(m, t.y, f.y), L::select(m, t.z, f.z))
+    }
+}

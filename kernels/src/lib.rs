@@ -1,0 +1,597 @@
+//! # tridist: fast, measured distance queries between triangles, segments and points
+//!
+//! Squared distances, closest points, intersection and within-margin tests for triangles,
+//! segments and points, in `f32` and `f64`, on scalar, SSE4.1, AVX and AVX2+FMA kernels. Every
+//! kernel variant is checked against an exact rational oracle (`tridist-oracle`); the measured
+//! error of each variant on each input family is published in `reports/ACCURACY.md`.
+//!
+//! * Single queries on plain arrays: [`sqdist_triangle_triangle`],
+//!   [`closest_points_triangle_triangle`], [`intersect_triangle_triangle`],
+//!   [`within_margin_triangle_triangle`], [`sqdist_segment_segment`],
+//!   [`sqdist_point_triangle`], ... (scalar kernel, no set-up).
+//! * Batches: an [`Engine`] (one instruction-set variant, [`Isa`]) runs a query over pairs
+//!   `a[i]` vs `b[i]` or one primitive against many ([`Prims`]), writing into caller-provided
+//!   slices. Ask only for what the scene needs: squared distance only costs less than closest
+//!   points; the within-margin query skips pairs whose boxes are already too far apart.
+//!
+//! ## Behaviour common to every query
+//! * **Degenerate input**: a triangle whose vertices coincide or are collinear is treated as the
+//!   point or segment it is; a zero-length segment as a point. Never NaN for finite input.
+//! * **Touching / intersecting** triangles have squared distance exactly `0`.
+//! * **Non-finite input** (any NaN or infinite coordinate): the squared distance and closest
+//!   points are NaN, intersection answers `None`. Other lanes of a batch are unaffected.
+//! * **Overflow**: when the squared distance exceeds the precision's range it is `+inf` (the
+//!   distance itself may still be finite; take `sqrt` in a wider type if needed). Closest points
+//!   stay finite. Intermediate overflow cannot happen: each query scales its input by a power of
+//!   two first, exactly.
+//! * **Underflow**: a squared distance below the smallest subnormal rounds to `0` (for f32 this
+//!   happens for distances below about 2^-75).
+//!
+//! ## Precision
+//! Error is measured as `E = |sqrt(D^) - d*| / (u*S)` (u the unit roundoff, S the largest
+//! absolute coordinate), see `ACCURACY.md` at the repository root and the measured table in
+//! `reports/ACCURACY.md`.
+//!
+//! ## Example
+//! ```
+//! let a = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+//! let b = [[0.0f32, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]];
+//! assert_eq!(tridist::sqdist_triangle_triangle(&a, &b), 4.0);
+//! assert_eq!(tridist::intersect_triangle_triangle(&a, &b), Some(false));
+//! ```
+#![cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+
+mod algo;
+mod arch;
+mod batch;
+mod dispatch;
+#[doc(hidden)]
+pub mod driver;
+mod lanes;
+mod real;
+
+pub use batch::{Batch, PointBatch, SegmentBatch, TriangleBatch};
+pub use dispatch::Isa;
+pub use real::Real;
+
+use driver::{DOut, Job, QueryKind, Src};
+
+/// A point: `[x, y, z]`.
+pub type Point<T> = [T; 3];
+/// A segment: its two end points.
+pub type Segment<T> = [Point<T>; 2];
+/// A triangle: its three vertices.
+pub type Triangle<T> = [Point<T>; 3];
+
+/// A squared distance and the closest points realising it: `p` on the first primitive, `q` on
+/// the second. For intersecting triangles `sqdist` is 0 and `p`, `q` are a point of contact
+/// (equal up to rounding). Closest points are not unique for parallel features; any valid pair
+/// may be returned.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClosestPoints<T> {
+    /// Squared distance.
+    pub sqdist: T,
+    /// Closest point on the first primitive.
+    pub p: Point<T>,
+    /// Closest point on the second primitive.
+    pub q: Point<T>,
+}
+
+/// Misuse of the batch API. Never a panic.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Error {
+    /// Two inputs (or an input and an output) that must have the same length do not.
+    LengthMismatch {
+        /// Which argument.
+        what: &'static str,
+        /// The length it must have.
+        expected: usize,
+        /// The length it has.
+        found: usize,
+    },
+    /// The variant is not supported by this CPU (or this target).
+    Unavailable(Isa),
+    /// A variant name that is not one of `scalar`, `sse41`, `avx`, `avx2fma`.
+    UnknownIsa(String),
+    /// The margin of a within-margin query is negative or not finite.
+    InvalidMargin,
+    /// A mesh index names no vertex.
+    IndexOutOfRange {
+        /// Triangle number.
+        triangle: usize,
+        /// The index.
+        index: usize,
+        /// How many vertices there are.
+        vertices: usize,
+    },
+}
+
+impl core::fmt::Display for Error {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::LengthMismatch { what, expected, found } => {
+                write!(f, "length mismatch: {what} has {found} elements, expected {expected}")
+            }
+            Error::Unavailable(i) => write!(f, "variant {i} is not available on this CPU"),
+            Error::UnknownIsa(s) => {
+                write!(f, "unknown variant {s:?} (expected scalar, sse41, avx or avx2fma)")
+            }
+            Error::InvalidMargin => write!(f, "margin must be finite and non-negative"),
+            Error::IndexOutOfRange { triangle, index, vertices } => write!(
+                f,
+                "triangle {triangle} uses vertex index {index}, but there are {vertices} vertices"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// One side of a batch query: SoA columns (fastest for SIMD), a plain slice (AoS: the paper's
+/// "non-SIMD layout"), or a single primitive broadcast against every primitive of the other side.
+#[derive(Clone, Copy, Debug)]
+pub enum Prims<'a, T, const K: usize> {
+    /// SoA columns.
+    Soa(&'a Batch<T, K>),
+    /// Plain array of primitives.
+    Aos(&'a [[Point<T>; K]]),
+    /// One primitive against many.
+    One(&'a [Point<T>; K]),
+}
+
+impl<'a, T, const K: usize> From<&'a Batch<T, K>> for Prims<'a, T, K> {
+    fn from(b: &'a Batch<T, K>) -> Self {
+        Prims::Soa(b)
+    }
+}
+impl<'a, T, const K: usize> From<&'a [[Point<T>; K]]> for Prims<'a, T, K> {
+    fn from(b: &'a [[Point<T>; K]]) -> Self {
+        Prims::Aos(b)
+    }
+}
+impl<'a, T, const K: usize> From<&'a Vec<[Point<T>; K]>> for Prims<'a, T, K> {
+    fn from(b: &'a Vec<[Point<T>; K]>) -> Self {
+        Prims::Aos(b)
+    }
+}
+impl<'a, T, const K: usize> From<&'a [Point<T>; K]> for Prims<'a, T, K> {
+    fn from(b: &'a [Point<T>; K]) -> Self {
+        Prims::One(b)
+    }
+}
+
+impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
+    fn len(&self) -> Option<usize> {
+        match self {
+            Prims::Soa(b) => Some(b.len()),
+            Prims::Aos(s) => Some(s.len()),
+            Prims::One(_) => None,
+        }
+    }
+    fn src(&self) -> Src<'a, T> {
+        match *self {
+            Prims::Soa(b) => b.src(),
+            Prims::Aos(s) => Src::Aos { flat: s.as_flattened().as_flattened(), len: s.len(), k: K },
+            Prims::One(p) => Src::One { flat: p.as_flattened(), k: K },
+        }
+    }
+}
+
+/// Runs batch queries on one instruction-set variant.
+///
+/// Built only for a variant this CPU supports, so every method is safe to call.
+///
+/// # Example
+/// ```
+/// use tridist::{Engine, TriangleBatch};
+/// let a = TriangleBatch::from_slice(&[[[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]; 10]);
+/// let b = TriangleBatch::from_slice(&[[[0.0f32, 0.0, 3.0], [1.0, 0.0, 3.0], [0.0, 1.0, 3.0]]; 10]);
+/// let mut out = vec![0.0f32; 10];
+/// Engine::auto().sqdist_triangle_triangle(&a, &b, &mut out).unwrap();
+/// assert!(out.iter().all(|&d| d == 9.0));
+/// // lengths must agree: an error, not a panic
+/// assert!(Engine::auto().sqdist_triangle_triangle(&a, &b, &mut out[..3]).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Engine {
+    isa: Isa,
+}
+
+/// The environment variable that pins [`Engine::auto`] to one variant (`scalar`, `sse41`,
+/// `avx`, `avx2fma`), for tests and benchmarks.
+pub const ISA_ENV: &str = "TRIDIST_ISA";
+
+impl Engine {
+    /// An engine for `isa`, or [`Error::Unavailable`] when this CPU lacks it.
+    pub fn new(isa: Isa) -> Result<Engine, Error> {
+        if isa.is_available() {
+            Ok(Engine { isa })
+        } else {
+            Err(Error::Unavailable(isa))
+        }
+    }
+
+    /// The scalar engine (always available).
+    pub fn scalar() -> Engine {
+        Engine { isa: Isa::Scalar }
+    }
+
+    /// The best available variant, or the one named by `TRIDIST_ISA` when that is set.
+    ///
+    /// # Errors
+    /// When `TRIDIST_ISA` names an unknown or unavailable variant.
+    pub fn from_env() -> Result<Engine, Error> {
+        match std::env::var(ISA_ENV) {
+            Ok(s) if !s.is_empty() => {
+                let isa = Isa::parse(&s).ok_or(Error::UnknownIsa(s))?;
+                Engine::new(isa)
+            }
+            _ => Ok(Engine { isa: Isa::best() }),
+        }
+    }
+
+    /// [`Engine::from_env`], falling back to the best available variant when `TRIDIST_ISA` is
+    /// unusable. Detection runs once and is cached.
+    pub fn auto() -> Engine {
+        Engine::from_env().unwrap_or(Engine { isa: Isa::best() })
+    }
+
+    /// The variant this engine runs.
+    pub fn isa(&self) -> Isa {
+        self.isa
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn exec<T: Real, const KA: usize, const KB: usize>(
+        &self,
+        query: QueryKind,
+        a: Prims<'_, T, KA>,
+        b: Prims<'_, T, KB>,
+        param: T,
+        d: DOut<'_, T>,
+        p: Option<&mut [Point<T>]>,
+        q: Option<&mut [Point<T>]>,
+    ) -> Result<(), Error> {
+        let n = match (a.len(), b.len()) {
+            (Some(x), Some(y)) if x != y => {
+                return Err(Error::LengthMismatch { what: "b", expected: x, found: y })
+            }
+            (Some(x), _) | (None, Some(x)) => x,
+            (None, None) => 1,
+        };
+        let dlen = match &d {
+            DOut::Real(s) => s.len(),
+            DOut::Flag(s) => s.len(),
+        };
+        let check = |what, len: usize| {
+            if len == n {
+                Ok(())
+            } else {
+                Err(Error::LengthMismatch { what, expected: n, found: len })
+            }
+        };
+        check("out", dlen)?;
+        if let Some(p) = &p {
+            check("out_p", p.len())?;
+        }
+        if let Some(q) = &q {
+            check("out_q", q.len())?;
+        }
+        let mut job = Job { query, a: a.src(), b: b.src(), n, param, d, p, q };
+        T::__run(self.isa, &mut job);
+        Ok(())
+    }
+
+    /// Squared triangle-triangle distances (PQP TriDist, made robust; see
+    /// [`sqdist_triangle_triangle`] for behaviour), `out[i]` for pair `i`.
+    ///
+    /// # Errors
+    /// [`Error::LengthMismatch`] when `a`, `b` and `out` disagree in length (a [`Prims::One`]
+    /// side matches any length). An empty batch is fine and writes nothing.
+    pub fn sqdist_triangle_triangle<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 3>>,
+        b: impl Into<Prims<'a, T, 3>>,
+        out: &mut [T],
+    ) -> Result<(), Error> {
+        self.exec(QueryKind::TriTri, a.into(), b.into(), T::ZERO, DOut::Real(out), None, None)
+    }
+
+    /// Squared distances and closest points (`out_p` on `a`, `out_q` on `b`).
+    ///
+    /// # Errors
+    /// As [`Engine::sqdist_triangle_triangle`], also for `out_p`/`out_q`.
+    pub fn closest_points_triangle_triangle<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 3>>,
+        b: impl Into<Prims<'a, T, 3>>,
+        out: &mut [T],
+        out_p: &mut [Point<T>],
+        out_q: &mut [Point<T>],
+    ) -> Result<(), Error> {
+        let (a, b) = (a.into(), b.into());
+        self.exec(QueryKind::TriTri, a, b, T::ZERO, DOut::Real(out), Some(out_p), Some(out_q))
+    }
+
+    /// Squared distances by brute force: the minimum over the 15 feature pairs (9 edge-edge,
+    /// 6 vertex-face) unless the separating-axis test finds an overlap (then 0).
+    ///
+    /// # Errors
+    /// As [`Engine::sqdist_triangle_triangle`].
+    pub fn sqdist_triangle_triangle_brute<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 3>>,
+        b: impl Into<Prims<'a, T, 3>>,
+        out: &mut [T],
+    ) -> Result<(), Error> {
+        self.exec(QueryKind::TriTriBrute, a.into(), b.into(), T::ZERO, DOut::Real(out), None, None)
+    }
+
+    /// Brute force with closest points.
+    ///
+    /// # Errors
+    /// As [`Engine::closest_points_triangle_triangle`].
+    pub fn closest_points_triangle_triangle_brute<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 3>>,
+        b: impl Into<Prims<'a, T, 3>>,
+        out: &mut [T],
+        out_p: &mut [Point<T>],
+        out_q: &mut [Point<T>],
+    ) -> Result<(), Error> {
+        let (a, b) = (a.into(), b.into());
+        self.exec(QueryKind::TriTriBrute, a, b, T::ZERO, DOut::Real(out), Some(out_p), Some(out_q))
+    }
+
+    /// Intersection only (separating axes): `Some(true)` when the triangles touch or overlap,
+    /// `Some(false)` when disjoint, `None` for non-finite input.
+    ///
+    /// # Errors
+    /// As [`Engine::sqdist_triangle_triangle`].
+    pub fn intersect_triangle_triangle<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 3>>,
+        b: impl Into<Prims<'a, T, 3>>,
+        out: &mut [Option<bool>],
+    ) -> Result<(), Error> {
+        self.exec(QueryKind::Intersect, a.into(), b.into(), T::ZERO, DOut::Flag(out), None, None)
+    }
+
+    /// Within-margin: `out[i]` is the squared distance when the distance is at most `margin`,
+    /// else `+inf`. Pairs whose bounding boxes are farther apart than `margin` skip the distance
+    /// computation (a batch of SIMD lanes skips it when all its lanes are far).
+    ///
+    /// # Errors
+    /// [`Error::InvalidMargin`] for a negative or non-finite margin; lengths as
+    /// [`Engine::sqdist_triangle_triangle`].
+    pub fn within_margin_triangle_triangle<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 3>>,
+        b: impl Into<Prims<'a, T, 3>>,
+        margin: T,
+        out: &mut [T],
+    ) -> Result<(), Error> {
+        if !(margin.is_finite() && margin >= T::ZERO) {
+            return Err(Error::InvalidMargin);
+        }
+        self.exec(QueryKind::Within, a.into(), b.into(), margin, DOut::Real(out), None, None)
+    }
+
+    /// Squared segment-segment distances (Ericson 5.1.9 with a relative parallel test).
+    ///
+    /// # Errors
+    /// As [`Engine::sqdist_triangle_triangle`].
+    pub fn sqdist_segment_segment<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 2>>,
+        b: impl Into<Prims<'a, T, 2>>,
+        out: &mut [T],
+    ) -> Result<(), Error> {
+        self.exec(QueryKind::SegSeg, a.into(), b.into(), T::ZERO, DOut::Real(out), None, None)
+    }
+
+    /// Squared segment-segment distances and closest points.
+    ///
+    /// # Errors
+    /// As [`Engine::closest_points_triangle_triangle`].
+    pub fn closest_points_segment_segment<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 2>>,
+        b: impl Into<Prims<'a, T, 2>>,
+        out: &mut [T],
+        out_p: &mut [Point<T>],
+        out_q: &mut [Point<T>],
+    ) -> Result<(), Error> {
+        let (a, b) = (a.into(), b.into());
+        self.exec(QueryKind::SegSeg, a, b, T::ZERO, DOut::Real(out), Some(out_p), Some(out_q))
+    }
+
+    /// Squared point-triangle distances (Ericson 5.1.5). `a` holds points (`[Point; 1]`).
+    ///
+    /// # Errors
+    /// As [`Engine::sqdist_triangle_triangle`].
+    pub fn sqdist_point_triangle<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 1>>,
+        b: impl Into<Prims<'a, T, 3>>,
+        out: &mut [T],
+    ) -> Result<(), Error> {
+        self.exec(QueryKind::PointTri, a.into(), b.into(), T::ZERO, DOut::Real(out), None, None)
+    }
+
+    /// Squared point-triangle distances and the closest points on the triangles (`out_q`).
+    ///
+    /// # Errors
+    /// As [`Engine::closest_points_triangle_triangle`].
+    pub fn closest_point_point_triangle<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 1>>,
+        b: impl Into<Prims<'a, T, 3>>,
+        out: &mut [T],
+        out_q: &mut [Point<T>],
+    ) -> Result<(), Error> {
+        self.exec(QueryKind::PointTri, a.into(), b.into(), T::ZERO, DOut::Real(out), None, Some(out_q))
+    }
+}
+
+fn single<T: Real, const KA: usize, const KB: usize>(
+    query: QueryKind,
+    a: &[Point<T>; KA],
+    b: &[Point<T>; KB],
+    param: T,
+) -> ClosestPoints<T> {
+    let mut d = [T::ZERO];
+    let mut p = [[T::ZERO; 3]];
+    let mut q = [[T::ZERO; 3]];
+    let r = Engine::scalar().exec(
+        query,
+        Prims::One(a),
+        Prims::One(b),
+        param,
+        DOut::Real(&mut d),
+        Some(&mut p),
+        Some(&mut q),
+    );
+    debug_assert!(r.is_ok());
+    ClosestPoints { sqdist: d[0], p: p[0], q: q[0] }
+}
+
+/// Squared distance between two triangles.
+///
+/// # Behaviour
+/// PQP's TriDist (Larsen et al., seed 000 listing 13) with certified early exits: the nine edge
+/// pairs are tried first, an edge pair is accepted only if the plane through its closest points
+/// separates all six vertices; then the vertex-face case; pairs neither case decides get the
+/// brute-force answer. Intersecting or touching triangles give `0`; degenerate triangles are
+/// treated as the segments or points they are; NaN/inf input gives NaN; an overflowing result
+/// gives `+inf`.
+///
+/// # Precision
+/// Measured per input family in `reports/ACCURACY.md`; bounds enforced by the test suite.
+///
+/// # Performance
+/// The scalar kernel; for many pairs use [`Engine::sqdist_triangle_triangle`] on SoA batches.
+///
+/// # Example
+/// ```
+/// let a = [[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let b = [[2.0f64, 0.0, 0.0], [3.0, 0.0, 0.0], [2.0, 1.0, 0.0]]; // coplanar, 1 apart
+/// assert_eq!(tridist::sqdist_triangle_triangle(&a, &b), 1.0);
+/// ```
+pub fn sqdist_triangle_triangle<T: Real>(a: &Triangle<T>, b: &Triangle<T>) -> T {
+    single(QueryKind::TriTri, a, b, T::ZERO).sqdist
+}
+
+/// Squared distance and closest points of two triangles (see [`sqdist_triangle_triangle`]).
+///
+/// # Example
+/// ```
+/// let a = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let b = [[0.25f32, 0.25, 1.0], [0.25, 0.25, 5.0], [3.0, 3.0, 5.0]];
+/// let c = tridist::closest_points_triangle_triangle(&a, &b);
+/// assert_eq!(c.sqdist, 1.0);
+/// assert_eq!(c.q, [0.25, 0.25, 1.0]);
+/// ```
+pub fn closest_points_triangle_triangle<T: Real>(a: &Triangle<T>, b: &Triangle<T>) -> ClosestPoints<T> {
+    single(QueryKind::TriTri, a, b, T::ZERO)
+}
+
+/// Squared triangle distance by brute force (15 feature pairs + separating-axis overlap test),
+/// the baseline of Krestenitis & Koziara. Same behaviour as [`sqdist_triangle_triangle`].
+///
+/// # Example
+/// ```
+/// let a = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let b = [[0.2f32, 0.2, -1.0], [0.2, 0.2, 1.0], [5.0, 5.0, 0.0]]; // pierces a
+/// assert_eq!(tridist::sqdist_triangle_triangle_brute(&a, &b), 0.0);
+/// ```
+pub fn sqdist_triangle_triangle_brute<T: Real>(a: &Triangle<T>, b: &Triangle<T>) -> T {
+    single(QueryKind::TriTriBrute, a, b, T::ZERO).sqdist
+}
+
+/// Brute-force squared distance with closest points.
+pub fn closest_points_triangle_triangle_brute<T: Real>(a: &Triangle<T>, b: &Triangle<T>) -> ClosestPoints<T> {
+    single(QueryKind::TriTriBrute, a, b, T::ZERO)
+}
+
+/// Do two triangles touch or overlap? Separating-axis test after PQP's TriContact (seed 000
+/// listings 11-12): 17 axes, early out.
+///
+/// # Behaviour
+/// `Some(true)` for touching or intersecting triangles, `Some(false)` for disjoint ones, `None`
+/// when a coordinate is NaN or infinite. Two degenerate triangles (segments/points) are decided
+/// by their edge distance.
+///
+/// # Example
+/// ```
+/// let a = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let b = [[1.0f32, 0.0, 0.0], [2.0, 0.0, 0.0], [1.0, 1.0, 0.0]]; // shares a vertex
+/// assert_eq!(tridist::intersect_triangle_triangle(&a, &b), Some(true));
+/// let c = [[0.0f32, 0.0, f32::NAN], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// assert_eq!(tridist::intersect_triangle_triangle(&a, &c), None);
+/// ```
+pub fn intersect_triangle_triangle<T: Real>(a: &Triangle<T>, b: &Triangle<T>) -> Option<bool> {
+    let mut out = [None];
+    let r = Engine::scalar().intersect_triangle_triangle(Prims::One(a), Prims::One(b), &mut out);
+    debug_assert!(r.is_ok());
+    out[0]
+}
+
+/// Is the distance at most `margin`, and if so, what is its square?
+///
+/// # Behaviour
+/// `Ok(Some(d2))` when the distance is at most `margin` (d2 as [`sqdist_triangle_triangle`]),
+/// `Ok(None)` when farther. Pairs whose bounding boxes are farther apart than `margin` are
+/// rejected without the distance computation. Non-finite triangle input gives `Ok(Some(NaN))`.
+///
+/// # Errors
+/// [`Error::InvalidMargin`] when `margin` is negative or not finite.
+///
+/// # Example
+/// ```
+/// let a = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let b = [[0.0f32, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]];
+/// assert_eq!(tridist::within_margin_triangle_triangle(&a, &b, 3.0), Ok(Some(4.0)));
+/// assert_eq!(tridist::within_margin_triangle_triangle(&a, &b, 1.0), Ok(None));
+/// ```
+pub fn within_margin_triangle_triangle<T: Real>(a: &Triangle<T>, b: &Triangle<T>, margin: T) -> Result<Option<T>, Error> {
+    let mut out = [T::ZERO];
+    Engine::scalar().within_margin_triangle_triangle(Prims::One(a), Prims::One(b), margin, &mut out)?;
+    Ok(if out[0] == T::INFINITY { None } else { Some(out[0]) })
+}
+
+/// Squared distance between two segments (Ericson, Real-Time Collision Detection 5.1.9; seed
+/// 000 listing 9), with a relative parallel test and zero-length segments treated as points.
+///
+/// # Example
+/// ```
+/// let a = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0]];
+/// let b = [[0.5f32, 1.0, -1.0], [0.5, 1.0, 1.0]];
+/// assert_eq!(tridist::sqdist_segment_segment(&a, &b), 1.0);
+/// ```
+pub fn sqdist_segment_segment<T: Real>(a: &Segment<T>, b: &Segment<T>) -> T {
+    single(QueryKind::SegSeg, a, b, T::ZERO).sqdist
+}
+
+/// Squared distance and closest points of two segments.
+pub fn closest_points_segment_segment<T: Real>(a: &Segment<T>, b: &Segment<T>) -> ClosestPoints<T> {
+    single(QueryKind::SegSeg, a, b, T::ZERO)
+}
+
+/// Squared distance from a point to a triangle (Ericson 5.1.5; seed 000 listing 10).
+/// Degenerate triangles are treated as their segments or point.
+///
+/// # Example
+/// ```
+/// let t = [[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// assert_eq!(tridist::sqdist_point_triangle(&[0.25, 0.25, 2.0], &t), 4.0);
+/// ```
+pub fn sqdist_point_triangle<T: Real>(p: &Point<T>, t: &Triangle<T>) -> T {
+    single(QueryKind::PointTri, &[*p], t, T::ZERO).sqdist
+}
+
+/// Squared distance from a point to a triangle and the closest point on it (`q`; `p` is the
+/// query point).
+pub fn closest_point_point_triangle<T: Real>(p: &Point<T>, t: &Triangle<T>) -> ClosestPoints<T> {
+    single(QueryKind::PointTri, &[*p], t, T::ZERO)
+}
