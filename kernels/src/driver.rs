@@ -4,7 +4,7 @@
 //! padded lane buffer.
 
 use crate::algo::{self, Res, SelectExt};
-use crate::lanes::{Lanes, V3};
+use crate::lanes::{Lanes, Mask, V3};
 use crate::real::Real;
 
 /// Which query a job runs. Hidden plumbing for [`crate::Engine`].
