@@ -1,0 +1,267 @@
+//! Hand-derived cases with known exact answers, the two formulations against each other, exact
+//! invariances, and the rounding routine.
+
+use proptest::prelude::*;
+use rug::Rational;
+
+use super::*;
+
+type T3 = [[f64; 3]; 3];
+
+fn q(x: f64) -> Rational {
+    Rational::from_f64(x).unwrap()
+}
+
+fn tt(a: &T3, b: &T3) -> Rational {
+    let r = sqdist_triangle_triangle(a, b).unwrap();
+    let k = sqdist_triangle_triangle_kkt(a, b).unwrap();
+    assert_eq!(r, k, "the two formulations disagree on {a:?} {b:?}");
+    r
+}
+
+const A: T3 = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+
+fn shift(t: &T3, d: [f64; 3]) -> T3 {
+    t.map(|p| [p[0] + d[0], p[1] + d[1], p[2] + d[2]])
+}
+
+#[test]
+fn parallel_planes_at_distance_h() {
+    for h in [1.0, 0.1, 3.0e-5, 1e10] {
+        let b = shift(&[[0.2, 0.2, 0.0], [2.0, 0.2, 0.0], [0.2, 2.0, 0.0]], [0.0, 0.0, h]);
+        assert_eq!(tt(&A, &b), q(h) * q(h), "h = {h}");
+    }
+}
+
+#[test]
+fn coplanar_gap() {
+    // b's left edge x = 1.5 faces a's hypotenuse-free vertex (1,0): gap 0.5.
+    let b = [[1.5, -1.0, 0.0], [3.0, 0.0, 0.0], [1.5, 1.0, 0.0]];
+    assert_eq!(tt(&A, &b), Rational::from((1, 4)));
+}
+
+#[test]
+fn shared_vertex_shared_edge_and_piercing_are_zero() {
+    let shared_v = [[1.0, 0.0, 0.0], [2.0, 1.0, 5.0], [2.0, -1.0, 3.0]];
+    let shared_e = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.7]];
+    let piercing = [[0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [5.0, 5.0, 0.5]];
+    let crossing = [[0.2, -1.0, 0.1], [0.2, 2.0, 0.1], [0.2, 0.5, -3.0]];
+    for b in [shared_v, shared_e, piercing, crossing] {
+        assert_eq!(tt(&A, &b), 0, "{b:?}");
+        assert!(intersect_triangle_triangle(&exact_points(&A).unwrap(), &exact_points(&b).unwrap()));
+    }
+    // The piercing case has no zero feature distance (a's hypotenuse crosses b's face at
+    // (0.5, 0.5, 0)): only the orientation test finds it.
+    let (ea, eb) = (exact_points(&A).unwrap(), exact_points(&piercing).unwrap());
+    assert!(min15(&ea, &eb).d2 > 0);
+    let x = triangle_triangle(&ea, &eb);
+    assert_eq!(x.p, x.q);
+    assert_eq!(x.p, [q(0.5), q(0.5), q(0.0)]);
+}
+
+#[test]
+fn point_like_and_segment_like_triangles() {
+    let pt = [[0.25, 0.25, 2.0]; 3];
+    assert_eq!(tt(&A, &pt), 4);
+    let seg = [[2.0, 0.0, 1.0], [3.0, 0.0, 1.0], [2.5, 0.0, 1.0]]; // collinear, x in [2, 3]
+    assert_eq!(tt(&A, &seg), 2); // (1,0,0) to (2,0,1)
+    let seg_piercing = [[0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [0.2, 0.2, 0.0]];
+    assert_eq!(tt(&A, &seg_piercing), 0);
+    // two point-like triangles
+    assert_eq!(tt(&[[1.0, 2.0, 3.0]; 3], &[[1.0, 2.0, 5.0]; 3]), 4);
+}
+
+#[test]
+fn smallest_gaps() {
+    let tiny = f32::from_bits(1) as f64; // 2^-149
+    let b = shift(&A, [0.0, 0.0, tiny]);
+    let a32: [[f32; 3]; 3] = A.map(|p| p.map(|c| c as f32));
+    let b32: [[f32; 3]; 3] = b.map(|p| p.map(|c| c as f32));
+    let d = sqdist_triangle_triangle(&a32, &b32).unwrap();
+    assert_eq!(d, q(tiny) * q(tiny));
+    assert_eq!(tt(&A, &b), Rational::from(1) >> 298u32);
+    let sub64 = f64::from_bits(1);
+    assert_eq!(tt(&A, &shift(&A, [sub64, 0.0, 0.0])), 0); // overlapping, shifted a hair
+    let b = [[0.0, 0.0, sub64], [1.0, 0.0, sub64], [0.0, 1.0, sub64]];
+    assert_eq!(tt(&A, &b), q(sub64) * q(sub64));
+}
+
+#[test]
+fn segment_segment_and_point_triangle_cases() {
+    let e = |p: [[f64; 3]; 2]| exact_points(&p).unwrap();
+    let r = segment_segment(&e([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]), &e([[0.5, 1.0, -1.0], [0.5, 1.0, 1.0]]));
+    assert_eq!(r.d2, 1);
+    // parallel overlapping segments
+    let r = segment_segment(&e([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]]), &e([[1.0, 3.0, 0.0], [5.0, 3.0, 0.0]]));
+    assert_eq!(r.d2, 9);
+    // zero-length segment
+    let r = segment_segment(&e([[1.0, 1.0, 1.0], [1.0, 1.0, 1.0]]), &e([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]]));
+    assert_eq!(r.d2, 2);
+    let t = exact_points(&A).unwrap();
+    assert_eq!(point_triangle(&exact_point(&[0.25, 0.25, 2.0]).unwrap(), &t).d2, 4);
+    assert_eq!(point_triangle(&exact_point(&[-1.0, -1.0, 0.0]).unwrap(), &t).d2, 2);
+    assert_eq!(point_triangle(&exact_point(&[1.0, 1.0, 0.0]).unwrap(), &t).d2, Rational::from((1, 2)));
+}
+
+#[test]
+fn non_finite_is_an_error() {
+    let mut b = A;
+    b[1][2] = f64::NAN;
+    assert_eq!(sqdist_triangle_triangle(&A, &b), Err(NonFinite));
+    b[1][2] = f64::INFINITY;
+    assert_eq!(sqdist_triangle_triangle_kkt(&A, &b), Err(NonFinite));
+}
+
+// ---- rounding ----
+
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+}
+
+#[test]
+fn rounding_to_f32_matches_the_hardware_cast() {
+    // `f64 as f32` is round-to-nearest-even, an independent reference. Random bit patterns
+    // cover normals, subnormals, overflow and the exact ties that f64 can hold.
+    let mut rng = Rng(1);
+    for _ in 0..200_000 {
+        let x = f64::from_bits(rng.next());
+        if !x.is_finite() {
+            continue;
+        }
+        let r = round::to_f32(&q(x));
+        assert_eq!(r.to_bits(), (x as f32).to_bits(), "x = {x:e}");
+    }
+    // exhaustive over the f32 neighbourhood of every binade boundary, midpoints included
+    for e in -150i32..=128 {
+        let base = 2f64.powi(e);
+        for k in -4i32..=4 {
+            let x = base * (1.0 + k as f64 * 2f64.powi(-25));
+            assert_eq!(round::to_f32(&q(x)).to_bits(), (x as f32).to_bits(), "x = {x:e}");
+        }
+    }
+}
+
+#[test]
+fn rounding_to_f64_edge_cases() {
+    let mut rng = Rng(7);
+    for _ in 0..50_000 {
+        let a = f64::from_bits(rng.next() >> 1);
+        if !a.is_finite() || a == f64::MAX {
+            continue;
+        }
+        let b = f64::from_bits(a.to_bits() + 1);
+        let mid = (q(a) + q(b)) / 2;
+        let even = if a.to_bits() % 2 == 0 { a } else { b };
+        assert_eq!(round::to_f64(&mid), even, "tie between {a:e} and {b:e}");
+        let eps = Rational::from(&mid - &q(a)) / 1024;
+        assert_eq!(round::to_f64(&(mid.clone() - &eps)), a);
+        assert_eq!(round::to_f64(&(mid.clone() + &eps)), b);
+        assert_eq!(round::to_f64(&-mid), -even);
+        assert_eq!(round::to_f64(&q(a)), a);
+    }
+    // overflow: MAX + half an ulp ties to the even neighbour 2^1024, i.e. infinity
+    let half_ulp = q(2f64.powi(970));
+    assert_eq!(round::to_f64(&(q(f64::MAX) + &half_ulp)), f64::INFINITY);
+    assert_eq!(round::to_f64(&(q(f64::MAX) + half_ulp / 2)), f64::MAX);
+    // below half the smallest subnormal: 0; above: the smallest subnormal
+    let tiny = q(f64::from_bits(1));
+    assert_eq!(round::to_f64(&(tiny.clone() / 2)), 0.0);
+    assert_eq!(round::to_f64(&(tiny.clone() * 3 / 4)), f64::from_bits(1));
+    // rug's own conversion truncates; ours must not
+    let third = Rational::from((1, 3));
+    assert_eq!(round::to_f64(&third), 1.0 / 3.0);
+}
+
+#[test]
+fn metrics_behave() {
+    use metrics::*;
+    let exact = Rational::from(4); // d* = 2
+    assert_eq!(scaled_error(4.0, &exact, 1.0, F64), 0.0);
+    // next_up(4) = 4 + 8u: sqrt = 2 + 2u (to first order), so E = 2 with S = 1.
+    let e = scaled_error(f64::from_bits(4f64.to_bits() + 1), &exact, 1.0, F64);
+    assert!((e - 2.0).abs() < 1e-6, "{e}");
+    assert!(scaled_error(f64::NAN, &exact, 1.0, F64).is_nan());
+    assert_eq!(scaled_error(f64::INFINITY, &exact, 1.0, F64), f64::INFINITY);
+    assert_eq!(floor_error(&exact, 1.0, F64), 0.0);
+    assert!(contact_miss(1.0, &Rational::new(), 1.0, F32, 8.0));
+    assert!(!contact_miss(0.0, &Rational::new(), 1.0, F32, 8.0));
+    assert!(false_zero(0.0, &Rational::from((1, 1000)), F32));
+    assert!(!false_zero(0.0, &(Rational::from(1) >> 400u32), F32)); // rounds to 0 in f32
+    let t = exact_points(&A).unwrap();
+    assert_eq!(point_offset([0.25, 0.25, 0.0], &t, 1.0, F64), 0.0);
+    assert!(point_offset([0.25, 0.25, 1e-10], &t, 1.0, F64) > 1e5);
+    // overflow: +inf is the right answer when the exact value exceeds f32
+    let huge = q(1e39);
+    assert_eq!(excess(f64::INFINITY, &huge, 1e19, F32), 0.0);
+    assert_eq!(excess(3e38, &huge, 1e19, F32), f64::INFINITY);
+}
+
+// ---- the two formulations, and exact invariances ----
+
+fn coord() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        4 => (-8i32..8).prop_map(|k| k as f64 * 0.25),     // lattice: coplanar, parallel, touching
+        4 => -1.0f64..1.0,
+        1 => (-1.0f64..1.0).prop_map(|x| x * 1e-20),
+        1 => (-1.0f64..1.0).prop_map(|x| x * 1e20),
+    ]
+}
+
+fn tri() -> impl Strategy<Value = T3> {
+    let p = || [coord(), coord(), coord()];
+    prop_oneof![
+        6 => [p(), p(), p()],
+        1 => p().prop_map(|a| [a, a, a]),                               // point-like
+        1 => (p(), p()).prop_map(|(a, b)| [a, b, a]),                  // repeated vertex
+        1 => (p(), p()).prop_map(|(a, b)| [a, b, [(a[0] + b[0]) * 0.5, (a[1] + b[1]) * 0.5, (a[2] + b[2]) * 0.5]]),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
+
+    #[test]
+    fn formulations_agree(a in tri(), b in tri()) {
+        let ea = exact_points(&a).unwrap();
+        let eb = exact_points(&b).unwrap();
+        let f = triangle_triangle(&ea, &eb);
+        let k = triangle_triangle_kkt(&ea, &eb);
+        prop_assert_eq!(&f.d2, &k.d2);
+        // the closest points realise the distance and lie on their triangles
+        prop_assert_eq!(dist2(&f.p, &f.q), f.d2.clone());
+        prop_assert_eq!(point_triangle(&f.p, &ea).d2, 0);
+        prop_assert_eq!(point_triangle(&f.q, &eb).d2, 0);
+        prop_assert_eq!(intersect_triangle_triangle(&ea, &eb), f.d2 == 0);
+    }
+
+    #[test]
+    fn exact_invariances(a in tri(), b in tri(), perm in 0usize..6, k in -3i32..3, off in prop::sample::select(vec![0.0, 1.0, -64.0, 1024.0])) {
+        let d = tt(&a, &b);
+        // swap
+        prop_assert_eq!(&tt(&b, &a), &d);
+        // vertex permutations
+        let ps = [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]][perm];
+        let pa = [a[ps[0]], a[ps[1]], a[ps[2]]];
+        prop_assert_eq!(&sqdist_triangle_triangle(&pa, &b).unwrap(), &d);
+        // power-of-two scaling (exact in f64 for these magnitudes)
+        let f = 2f64.powi(k);
+        let sa = a.map(|p| p.map(|c| c * f));
+        let sb = b.map(|p| p.map(|c| c * f));
+        prop_assert_eq!(sqdist_triangle_triangle(&sa, &sb).unwrap(), d.clone() * q(f) * q(f));
+        // translation, where every sum is exact
+        let ta = a.map(|p| p.map(|c| c + off));
+        let tb = b.map(|p| p.map(|c| c + off));
+        let exact_sums = ta.iter().chain(tb.iter()).flatten().zip(a.iter().chain(b.iter()).flatten())
+            .all(|(t, c)| t - off == *c && q(*t) == q(*c) + q(off));
+        if exact_sums {
+            prop_assert_eq!(sqdist_triangle_triangle(&ta, &tb).unwrap(), d);
+        }
+    }
+}
