@@ -81,10 +81,10 @@ pub(crate) fn prescale<L: Lanes, const K: usize>(pts: [V3<L>; K]) -> Scaled<L, K
 /// non-finite input lanes. Overflow of the squared distance gives +inf (documented).
 #[inline(always)]
 pub(crate) fn unscale<L: Lanes>(r: Res<L>, p: L, finite: L::M) -> Res<L> {
-    let big = p.ge(L::one());
-    // For p >= 1, (d*p)*p rounds once (d*p is exact); for p < 1, p*p is exact unless it
-    // underflows, in which case the answer is below 2^-145 (f32) anyway.
-    let d = L::select(big, r.d.mul(p).mul(p), r.d.mul(p.mul(p)));
+    // d*p is exact while normal; when it is subnormal (p < 1, tiny d) its rounding error is
+    // below 2^-150 and is then multiplied by p < 1 again, far below the final rounding. So the
+    // result is the correctly rounded d*p^2 except in double-rounding ties.
+    let d = r.d.mul(p).mul(p);
     let nan = L::splat(L::S::NAN);
     let fix = |v: V3<L>| V3::select(finite, v.scale(p), V3::new(nan, nan, nan));
     Res { d: L::select(finite, d, nan), p: fix(r.p), q: fix(r.q) }
@@ -306,8 +306,9 @@ fn min15<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> Res<L> {
 #[inline(always)]
 fn vertex_faces<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
     for k in 0..3 {
-        keep_min(best, swap(point_triangle(s[k], t[0], t[1], t[2])));
-        keep_min(best, point_triangle(t[k], s[0], s[1], s[2]));
+        // point_triangle(x, ..) returns p = x: a vertex of s needs no swap, one of t does.
+        keep_min(best, point_triangle(s[k], t[0], t[1], t[2]));
+        keep_min(best, swap(point_triangle(t[k], s[0], s[1], s[2])));
     }
 }
 
@@ -322,9 +323,11 @@ fn contact_points<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
         for k in 0..3 {
             let h0 = a[k].sub(b[0]).dot(n);
             let h1 = a[(k + 1) % 3].sub(b[0]).dot(n);
-            // Parameter of the plane crossing, clamped to the edge (guarded for edges in plane).
-            let tpar = h0.safe_div(h0.sub(h1)).clamp01();
-            let tpar = L::select(h0.sub(h1).abs().gt(L::zero()), tpar, L::zero());
+            // Parameter of the plane crossing, h0 / (h0 - h1), clamped to the edge; the sign is
+            // moved to the numerator so the guarded division sees a non-negative divisor.
+            let den = h0.sub(h1);
+            let num = L::select(den.lt(L::zero()), h0.neg(), h0);
+            let tpar = num.safe_div(den.abs()).clamp01();
             let x = a[k].add_scaled(ea[k], tpar);
             let r = point_triangle(x, b[0], b[1], b[2]);
             keep_min(best, if flip { swap(r) } else { r });

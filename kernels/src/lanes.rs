@@ -80,7 +80,8 @@ pub(crate) trait Lanes: Copy {
     fn neg(self) -> Self {
         Self::zero().sub(self)
     }
-    /// `self / max(d, MIN_POSITIVE)`: never 0/0.
+    /// `self / max(d, MIN_POSITIVE)` for a divisor that is mathematically non-negative: never
+    /// 0/0, and a divisor that rounded below zero is treated as tiny.
     #[inline(always)]
     fn safe_div(self, d: Self) -> Self {
         self.div(d.max(Self::splat(Self::S::MIN_POSITIVE)))

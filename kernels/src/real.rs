@@ -15,6 +15,8 @@ pub trait Real:
     + Copy
     + Debug
     + Display
+    + core::fmt::LowerExp
+    + core::str::FromStr
     + Default
     + PartialOrd
     + Send

@@ -1,0 +1,27 @@
+//! # tridist-scenes: inputs and judgement shared by tests, fuzz targets, benches and reports
+//!
+//! * [`families`]: named, seeded input families (random, far from origin, extreme scale,
+//!   subnormal, degenerate, parallel, near-parallel, intersecting, touching, near misses, real
+//!   mesh neighbours);
+//! * [`mesh`]: the OFF loader and the meshes carried in `data/meshes`;
+//! * [`eval`]: run a kernel variant, judge it against the exact oracle, summarise;
+//! * [`bounds`]: the declared bound table, one row per (query, variant, precision, family group),
+//!   each with its reason.
+
+pub mod bounds;
+pub mod eval;
+pub mod families;
+pub mod mesh;
+pub mod rng;
+
+pub use families::{Case, Family};
+
+/// The environment variable that sets the base seed of every generated family.
+pub const SEED_ENV: &str = "TRIDIST_SEED";
+/// The default base seed.
+pub const DEFAULT_SEED: u64 = 0x7121_d157;
+
+/// The base seed: `TRIDIST_SEED` when set to a number, else [`DEFAULT_SEED`].
+pub fn seed() -> u64 {
+    std::env::var(SEED_ENV).ok().and_then(|s| s.parse().ok()).unwrap_or(DEFAULT_SEED)
+}
