@@ -103,11 +103,22 @@ pub(crate) fn seg_seg<L: Lanes>(p1: V3<L>, d1: V3<L>, p2: V3<L>, d2: V3<L>) -> R
     let f = d2.dot(r);
     let ae = a.mul(e);
     let denom = ae.sub(b.mul(b));
-    // Relative parallelism: a*e - b^2 = |d1 x d2|^2 = a*e*sin^2(angle). The rounding error of
-    // the difference is a few u*a*e, so below that the sign and size are noise.
-    let parallel = denom.le(ae.mul(u::<L>().mul(c(8.0))));
     let s0 = b.mul(f).sub(cc.mul(e)).safe_div(denom).clamp01();
-    let s0 = L::select(parallel, L::zero(), s0);
+    // a*e - b^2 = |d1 x d2|^2 = a*e*sin^2(angle) cancels for nearly parallel segments: its
+    // rounding error (a few u*a*e) then dominates and s0 is noise, which moves the distance by
+    // about u*L/sin(angle) (the PQP/FCL trap). Below sin^2 = 1/16 recompute
+    // s0 = (n . (d2 x r)) / |n|^2, n = d1 x d2, from accurately rounded cross products: the
+    // error drops to about u*L. Exactly parallel segments get s0 = 0 (then the projections
+    // below find the right pair).
+    let near = denom.le(ae.mul(c(1.0 / 16.0)));
+    let s0 = if near.any() {
+        let n = d1.cross_accurate(d2);
+        let m = d2.cross_accurate(r);
+        let acc = n.dot(m).safe_div(n.norm2()).clamp01();
+        L::select(near, acc, s0)
+    } else {
+        s0
+    };
     let t = b.mul_add(s0, f).safe_div(e).clamp01();
     // Re-project s from the (clamped) t; equal to s0 when t was not clamped.
     let s = b.mul_add(t, cc.neg()).safe_div(a).clamp01();

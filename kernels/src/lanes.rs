@@ -28,6 +28,8 @@ pub(crate) trait Lanes: Copy {
     type S: Real;
     type M: Mask;
     const N: usize;
+    /// Is `mul_add` fused (one rounding)?
+    const FMA: bool;
     fn splat(s: Self::S) -> Self;
     /// Loads the first `N` values of `src` (panics if `src` is shorter).
     fn load(src: &[Self::S]) -> Self;
@@ -80,12 +82,46 @@ pub(crate) trait Lanes: Copy {
     fn neg(self) -> Self {
         Self::zero().sub(self)
     }
+    /// `self * b - c * d` with about one rounding error relative to the result, even under
+    /// cancellation: Kahan's algorithm with a fused multiply-add, Dekker's exact products
+    /// otherwise. Inputs must be prescaled (|x| well below sqrt(MAX)).
+    #[inline(always)]
+    fn diff_prod(self, b: Self, c: Self, d: Self) -> Self {
+        if Self::FMA {
+            let w = c.mul(d);
+            let e = c.neg().mul_add(d, w); // w - c*d exactly
+            let f = self.mul_add(b, w.neg()); // a*b - w, one rounding
+            f.add(e)
+        } else {
+            let (p, ep) = two_prod(self, b);
+            let (q, eq) = two_prod(c, d);
+            // p - q is exact when it cancels (Sterbenz); the error terms are tiny.
+            p.sub(q).add(ep.sub(eq))
+        }
+    }
     /// `self / max(d, MIN_POSITIVE)` for a divisor that is mathematically non-negative: never
     /// 0/0, and a divisor that rounded below zero is treated as tiny.
     #[inline(always)]
     fn safe_div(self, d: Self) -> Self {
         self.div(d.max(Self::splat(Self::S::MIN_POSITIVE)))
     }
+}
+
+/// Dekker's exact product without FMA: `a*b = p + e` exactly (Veltkamp splitting).
+#[inline(always)]
+fn two_prod<L: Lanes>(a: L, b: L) -> (L, L) {
+    // 2^ceil(p/2) + 1: 4097 for f32, 134217729 for f64.
+    let split = L::splat(L::S::from_f64(if L::S::NAME == "f32" { 4097.0 } else { 134_217_729.0 }));
+    let halves = |x: L| {
+        let c = split.mul(x);
+        let hi = c.sub(c.sub(x));
+        (hi, x.sub(hi))
+    };
+    let p = a.mul(b);
+    let (ah, al) = halves(a);
+    let (bh, bl) = halves(b);
+    let e = ah.mul(bh).sub(p).add(ah.mul(bl)).add(al.mul(bh)).add(al.mul(bl));
+    (p, e)
 }
 
 impl Mask for bool {
@@ -121,6 +157,7 @@ macro_rules! scalar_lanes {
             type S = $t;
             type M = bool;
             const N: usize = 1;
+            const FMA: bool = false;
             #[inline(always)]
             fn splat(s: $t) -> Self {
                 s
@@ -252,6 +289,16 @@ impl<L: Lanes> V3<L> {
             self.y.mul(o.z).sub(self.z.mul(o.y)),
             self.z.mul(o.x).sub(self.x.mul(o.z)),
             self.x.mul(o.y).sub(self.y.mul(o.x)),
+        )
+    }
+    /// Cross product with every component computed by [`Lanes::diff_prod`]: accurate even
+    /// for nearly parallel vectors.
+    #[inline(always)]
+    pub fn cross_accurate(self, o: Self) -> Self {
+        V3::new(
+            self.y.diff_prod(o.z, self.z, o.y),
+            self.z.diff_prod(o.x, self.x, o.z),
+            self.x.diff_prod(o.y, self.y, o.x),
         )
     }
     /// Sum of absolute components (an upper bound on the Euclidean norm).

@@ -95,6 +95,7 @@ macro_rules! vec_type {
             type S = $s;
             type M = $mask;
             const N: usize = $n;
+            const FMA: bool = FMA;
             #[inline(always)]
             fn splat(s: $s) -> Self {
                 // SAFETY: only reached inside entry points with `$feat` enabled (module docs).
