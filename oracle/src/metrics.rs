@@ -116,9 +116,20 @@ pub fn contact_miss(d2_hat: f64, exact: &Rational, s: f64, prec: Precision, c: f
     *exact == 0 && !(d2_hat.sqrt() <= c * prec.u * s)
 }
 
-/// A false zero: the exact distance is positive (and does not round to 0), the kernel says 0.
-pub fn false_zero(d2_hat: f64, exact: &Rational, prec: Precision) -> bool {
+/// A strict false zero: the exact distance is positive (and does not round to 0), the kernel
+/// says exactly 0.
+pub fn false_zero_strict(d2_hat: f64, exact: &Rational, prec: Precision) -> bool {
     *exact > 0 && d2_hat == 0.0 && prec.round(exact) != 0.0
+}
+
+/// A false zero beyond the contact tolerance: the exact distance exceeds `c*u*S` and the kernel
+/// says 0. (Pairs a few ulps apart may legitimately be reported as touching: the decision is
+/// within rounding of the input; the strict count is reported separately.) A squared distance
+/// that rounds to 0 in the precision (underflow) is not a false zero.
+pub fn false_zero(d2_hat: f64, exact: &Rational, s: f64, prec: Precision, c: f64) -> bool {
+    let t = c * prec.u * s;
+    let thr = Rational::from_f64(t * t).unwrap_or_default();
+    d2_hat == 0.0 && *exact > thr && prec.round(exact) != 0.0
 }
 
 /// How far a returned point lies from its primitive (1, 2 or 3 points), scaled by `u*S`.

@@ -192,8 +192,10 @@ fn metrics_behave() {
     assert_eq!(floor_error(&exact, 1.0, F64), 0.0);
     assert!(contact_miss(1.0, &Rational::new(), 1.0, F32, 8.0));
     assert!(!contact_miss(0.0, &Rational::new(), 1.0, F32, 8.0));
-    assert!(false_zero(0.0, &Rational::from((1, 1000)), F32));
-    assert!(!false_zero(0.0, &(Rational::from(1) >> 400u32), F32)); // rounds to 0 in f32
+    assert!(false_zero_strict(0.0, &Rational::from((1, 1000)), F32));
+    assert!(!false_zero_strict(0.0, &(Rational::from(1) >> 400u32), F32)); // rounds to 0 in f32
+    assert!(false_zero(0.0, &Rational::from((1, 1000)), 1.0, F32, 8.0));
+    assert!(!false_zero(0.0, &(Rational::from(1) >> 60u32), 1.0, F32, 8.0)); // within 8 u S
     let t = exact_points(&A).unwrap();
     assert_eq!(point_offset([0.25, 0.25, 0.0], &t, 1.0, F64), 0.0);
     assert!(point_offset([0.25, 0.25, 1e-10], &t, 1.0, F64) > 1e5);

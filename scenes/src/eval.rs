@@ -256,8 +256,10 @@ pub struct Judged {
     pub ulp: Option<f64>,
     /// Exact distance 0, kernel says more than `c*u*S` (or "disjoint" for intersection).
     pub contact_miss: bool,
-    /// Exact distance positive, kernel says 0 (or "overlap" beyond `c*u*S`).
+    /// Exact distance beyond `c*u*S`, kernel says 0 (or "overlap").
     pub false_zero: bool,
+    /// Exact distance positive (not rounding to 0), kernel says exactly 0 (or "overlap").
+    pub false_zero_strict: bool,
     /// Non-finite output for finite input (the documented overflow outcome excepted).
     pub nonfinite: bool,
     /// Largest offset of a returned closest point from its primitive (scaled), and the error of
@@ -277,6 +279,7 @@ pub fn judge<T: Real>(query: Query, c: &Case<T>, t: &Truth, out: &Output<T>, i: 
         return Judged {
             contact_miss: exact_hit && said == Some(false),
             false_zero: said == Some(true) && t.d2 > tol,
+            false_zero_strict: said == Some(true) && t.d2 > 0,
             nonfinite: said.is_none(),
             ..Judged::default()
         };
@@ -298,7 +301,8 @@ pub fn judge<T: Real>(query: Query, c: &Case<T>, t: &Truth, out: &Output<T>, i: 
         excess,
         ulp: metrics::ulp_error(d, &t.d2, t.s, pr),
         contact_miss: metrics::contact_miss(d, &t.d2, t.s, pr, CONTACT_C),
-        false_zero: metrics::false_zero(d, &t.d2, pr),
+        false_zero: metrics::false_zero(d, &t.d2, t.s, pr, CONTACT_C),
+        false_zero_strict: metrics::false_zero_strict(d, &t.d2, pr),
         nonfinite,
         point_error,
     }
@@ -319,8 +323,10 @@ pub struct Stats {
     pub max_ulp: Option<f64>,
     /// Contact misses.
     pub contact_misses: usize,
-    /// False zeros (false overlaps for intersection).
+    /// False zeros beyond `c*u*S` (false overlaps for intersection).
     pub false_zeros: usize,
+    /// Strict false zeros: any positive exact distance reported as 0.
+    pub strict_false_zeros: usize,
     /// Non-finite outputs for finite input.
     pub nonfinite: usize,
     /// Largest closest-point error (scaled).
@@ -349,6 +355,7 @@ pub fn summarise<T: Real>(query: Query, cases: &[Case<T>], truth: &[Truth], out:
         max_ulp: js.iter().filter_map(|j| j.ulp).fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.max(x)))),
         contact_misses: js.iter().filter(|j| j.contact_miss).count(),
         false_zeros: js.iter().filter(|j| j.false_zero).count(),
+        strict_false_zeros: js.iter().filter(|j| j.false_zero_strict).count(),
         nonfinite: js.iter().filter(|j| j.nonfinite).count(),
         max_point_error: js.iter().map(|j| j.point_error).fold(0.0, f64::max),
         worst,

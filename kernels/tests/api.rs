@@ -1,0 +1,246 @@
+//! API behaviour that needs no oracle: bad input, lengths, lane positions and batch tails,
+//! layouts, within-margin, power-of-two scaling. Every test runs on every available variant.
+
+use tridist::{Engine, Error, Isa, Prims, SegmentBatch, Triangle, TriangleBatch};
+
+fn engines() -> Vec<Engine> {
+    Isa::ALL.into_iter().filter_map(|i| Engine::new(i).ok()).collect()
+}
+
+struct Rng(u64);
+impl Rng {
+    fn f(&mut self) -> f64 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn tri<T: tridist::Real>(&mut self) -> Triangle<T> {
+        [0; 3].map(|_| [0; 3].map(|_| T::from_f64(self.f() * 2.0 - 1.0)))
+    }
+}
+
+/// A mix of ordinary and awkward pairs (degenerate, touching, parallel).
+fn pairs<T: tridist::Real>(n: usize) -> Vec<(Triangle<T>, Triangle<T>)> {
+    let mut r = Rng(5);
+    (0..n)
+        .map(|i| {
+            let a = r.tri::<T>();
+            let mut b = r.tri::<T>();
+            match i % 5 {
+                1 => b[1] = a[0],                 // shared vertex
+                2 => b = [a[0], a[1], a[0]],      // degenerate, touching
+                3 => b = a.map(|p| [p[0], p[1], p[2] + T::ONE]), // parallel copy
+                _ => {}
+            }
+            (a, b)
+        })
+        .collect()
+}
+
+#[test]
+fn same_bits_in_every_lane_position_and_in_the_tail() {
+    let ps = pairs::<f32>(40);
+    for e in engines() {
+        // Reference: each pair alone (a batch of one goes through the padded tail path).
+        let alone: Vec<(f32, [f32; 3], [f32; 3])> = ps
+            .iter()
+            .map(|(a, b)| {
+                let (mut d, mut p, mut q) = ([0.0], [[0.0; 3]], [[0.0; 3]]);
+                e.closest_points_triangle_triangle(&[*a][..], &[*b][..], &mut d, &mut p, &mut q).unwrap();
+                (d[0], p[0], q[0])
+            })
+            .collect();
+        // Every batch length 1..=17 and every offset: the pair lands in every lane and the tail.
+        for len in 1..=17 {
+            for start in 0..(ps.len() - len) {
+                let a: Vec<_> = ps[start..start + len].iter().map(|x| x.0).collect();
+                let b: Vec<_> = ps[start..start + len].iter().map(|x| x.1).collect();
+                let (ba, bb) = (TriangleBatch::from_slice(&a), TriangleBatch::from_slice(&b));
+                let mut d = vec![0.0f32; len];
+                let (mut p, mut q) = (vec![[0.0; 3]; len], vec![[0.0; 3]; len]);
+                e.closest_points_triangle_triangle(&ba, &bb, &mut d, &mut p, &mut q).unwrap();
+                for k in 0..len {
+                    let (rd, rp, rq) = alone[start + k];
+                    assert_eq!(d[k].to_bits(), rd.to_bits(), "{:?} len {len} start {start} lane {k}", e.isa());
+                    assert_eq!(p[k], rp);
+                    assert_eq!(q[k], rq);
+                }
+                let mut d2 = vec![0.0f32; len];
+                e.sqdist_triangle_triangle(&ba, &bb, &mut d2).unwrap();
+                assert_eq!(d, d2, "distance-only must equal the distance of the points query");
+            }
+        }
+    }
+}
+
+#[test]
+fn soa_aos_and_single_queries_agree_on_the_scalar_variant() {
+    let ps = pairs::<f64>(64);
+    let a: Vec<_> = ps.iter().map(|x| x.0).collect();
+    let b: Vec<_> = ps.iter().map(|x| x.1).collect();
+    let e = Engine::scalar();
+    let (mut soa, mut aos) = (vec![0.0; 64], vec![0.0; 64]);
+    e.sqdist_triangle_triangle(&TriangleBatch::from_slice(&a), &TriangleBatch::from_slice(&b), &mut soa).unwrap();
+    e.sqdist_triangle_triangle(&a, &b, &mut aos).unwrap();
+    assert_eq!(soa, aos);
+    for (i, (x, y)) in ps.iter().enumerate() {
+        assert_eq!(tridist::sqdist_triangle_triangle(x, y).to_bits(), soa[i].to_bits());
+    }
+}
+
+#[test]
+fn one_against_many_equals_pairs() {
+    let ps = pairs::<f32>(30);
+    let one = ps[0].0;
+    let b: Vec<_> = ps.iter().map(|x| x.1).collect();
+    let a: Vec<_> = vec![one; b.len()];
+    for e in engines() {
+        let (mut x, mut y) = (vec![0.0f32; b.len()], vec![0.0f32; b.len()]);
+        e.sqdist_triangle_triangle(&one, &TriangleBatch::from_slice(&b), &mut x).unwrap();
+        e.sqdist_triangle_triangle(&TriangleBatch::from_slice(&a), &TriangleBatch::from_slice(&b), &mut y).unwrap();
+        assert_eq!(x, y, "{:?}", e.isa());
+    }
+}
+
+#[test]
+fn non_finite_input_gives_nan_and_none_without_touching_other_lanes() {
+    let ps = pairs::<f64>(9);
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let mut a: Vec<_> = ps.iter().map(|x| x.0).collect();
+        let b: Vec<_> = ps.iter().map(|x| x.1).collect();
+        let clean = a.clone();
+        a[4][2][1] = bad;
+        for e in engines() {
+            let mut reference = vec![0.0; 9];
+            e.sqdist_triangle_triangle(&clean, &b, &mut reference).unwrap();
+            let mut d = vec![0.0; 9];
+            let (mut p, mut q) = (vec![[0.0; 3]; 9], vec![[0.0; 3]; 9]);
+            e.closest_points_triangle_triangle(&TriangleBatch::from_slice(&a), &TriangleBatch::from_slice(&b), &mut d, &mut p, &mut q).unwrap();
+            assert!(d[4].is_nan() && p[4][0].is_nan() && q[4][0].is_nan());
+            for k in (0..9).filter(|&k| k != 4) {
+                assert_eq!(d[k].to_bits(), reference[k].to_bits(), "{:?} lane {k} disturbed", e.isa());
+            }
+            let mut f = vec![Some(false); 9];
+            e.intersect_triangle_triangle(&a, &b, &mut f).unwrap();
+            assert_eq!(f[4], None);
+            let mut w = vec![0.0; 9];
+            e.within_margin_triangle_triangle(&a, &b, 1.0, &mut w).unwrap();
+            assert!(w[4].is_nan());
+        }
+    }
+    let s = [[0.0f32, 0.0, f32::NAN], [1.0, 0.0, 0.0]];
+    assert!(tridist::sqdist_segment_segment(&s, &[[0.0; 3], [1.0, 1.0, 1.0]]).is_nan());
+    assert!(tridist::sqdist_point_triangle(&[f32::INFINITY, 0.0, 0.0], &ps_f32()[0]).is_nan());
+}
+
+fn ps_f32() -> Vec<Triangle<f32>> {
+    pairs::<f32>(1).into_iter().map(|x| x.0).collect()
+}
+
+#[test]
+fn misuse_is_an_error_not_a_panic() {
+    let a = TriangleBatch::from_slice(&ps_f32().repeat(5));
+    let b = TriangleBatch::from_slice(&ps_f32().repeat(4));
+    for e in engines() {
+        let mut out = vec![0.0f32; 5];
+        assert!(matches!(e.sqdist_triangle_triangle(&a, &b, &mut out), Err(Error::LengthMismatch { what: "b", expected: 5, found: 4 })));
+        assert!(matches!(e.sqdist_triangle_triangle(&a, &a, &mut out[..2]), Err(Error::LengthMismatch { what: "out", .. })));
+        let (mut p, mut q) = (vec![[0.0; 3]; 5], vec![[0.0; 3]; 4]);
+        assert!(matches!(e.closest_points_triangle_triangle(&a, &a, &mut out, &mut p, &mut q), Err(Error::LengthMismatch { what: "out_q", .. })));
+        assert_eq!(e.within_margin_triangle_triangle(&a, &a, -1.0, &mut out), Err(Error::InvalidMargin));
+        assert_eq!(e.within_margin_triangle_triangle(&a, &a, f32::NAN, &mut out), Err(Error::InvalidMargin));
+        // empty batches are fine
+        let empty = TriangleBatch::<f32>::from_slice(&[]);
+        assert_eq!(e.sqdist_triangle_triangle(&empty, &empty, &mut []), Ok(()));
+        let segs = SegmentBatch::<f32>::from_slice(&[]);
+        assert_eq!(e.sqdist_segment_segment(&segs, &segs, &mut []), Ok(()));
+    }
+    assert!(matches!(tridist::within_margin_triangle_triangle(&ps_f32()[0], &ps_f32()[0], f32::INFINITY), Err(Error::InvalidMargin)));
+    assert!(TriangleBatch::from_mesh(&[[0.0f32; 3]; 2], &[[0, 1, 2]]).is_err());
+    assert_eq!(Isa::parse("avx512"), None);
+}
+
+#[test]
+fn isa_selection() {
+    assert!(Isa::Scalar.is_available());
+    assert!(Isa::best().is_available());
+    for i in Isa::ALL {
+        assert_eq!(Isa::parse(i.name()), Some(i));
+        match Engine::new(i) {
+            Ok(e) => assert_eq!(e.isa(), i),
+            Err(err) => assert_eq!(err, Error::Unavailable(i)),
+        }
+    }
+    assert_eq!(Isa::Avx2Fma.lanes::<f32>(), 8);
+    assert_eq!(Isa::Sse41.lanes::<f64>(), 2);
+}
+
+#[test]
+fn within_margin_agrees_with_the_full_query() {
+    let ps = pairs::<f32>(200);
+    let a: Vec<_> = ps.iter().map(|x| x.0).collect();
+    let b: Vec<_> = ps.iter().map(|x| x.1).collect();
+    for e in engines() {
+        let mut full = vec![0.0f32; ps.len()];
+        e.sqdist_triangle_triangle(&a, &b, &mut full).unwrap();
+        for margin in [0.0f32, 0.05, 0.3, 1.0, 10.0] {
+            let mut w = vec![0.0f32; ps.len()];
+            e.within_margin_triangle_triangle(&a, &b, margin, &mut w).unwrap();
+            for k in 0..ps.len() {
+                if full[k] <= margin * margin {
+                    assert_eq!(w[k].to_bits(), full[k].to_bits(), "{:?} margin {margin} pair {k}", e.isa());
+                } else {
+                    assert_eq!(w[k], f32::INFINITY, "{:?} margin {margin} pair {k}: {}", e.isa(), full[k]);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn power_of_two_scaling_scales_the_result_exactly() {
+    let ps = pairs::<f32>(100);
+    for e in engines() {
+        for k in [-60i32, -20, -1, 1, 7, 40] {
+            let f = 2f32.powi(k);
+            let a: Vec<_> = ps.iter().map(|x| x.0).collect();
+            let b: Vec<_> = ps.iter().map(|x| x.1).collect();
+            let sa: Vec<_> = a.iter().map(|t| t.map(|p| p.map(|c| c * f))).collect();
+            let sb: Vec<_> = b.iter().map(|t| t.map(|p| p.map(|c| c * f))).collect();
+            let (mut d, mut ds) = (vec![0.0f32; 100], vec![0.0f32; 100]);
+            e.sqdist_triangle_triangle(&a, &b, &mut d).unwrap();
+            e.sqdist_triangle_triangle(&sa, &sb, &mut ds).unwrap();
+            for i in 0..100 {
+                let want = d[i] * f * f;
+                // exact unless the scaled square leaves the normal range
+                if want == 0.0 || (want.abs() >= f32::MIN_POSITIVE && want.is_finite()) {
+                    assert_eq!(ds[i], want, "{:?} k {k} pair {i}", e.isa());
+                }
+            }
+            let segs_a: Vec<_> = a.iter().map(|t| [t[0], t[1]]).collect();
+            let segs_b: Vec<_> = b.iter().map(|t| [t[0], t[2]]).collect();
+            let sseg_a: Vec<_> = sa.iter().map(|t| [t[0], t[1]]).collect();
+            let sseg_b: Vec<_> = sb.iter().map(|t| [t[0], t[2]]).collect();
+            e.sqdist_segment_segment(&segs_a, &segs_b, &mut d).unwrap();
+            e.sqdist_segment_segment(&sseg_a, &sseg_b, &mut ds).unwrap();
+            for i in 0..100 {
+                let want = d[i] * f * f;
+                if want == 0.0 || (want.abs() >= f32::MIN_POSITIVE && want.is_finite()) {
+                    assert_eq!(ds[i], want, "seg {:?} k {k} pair {i}", e.isa());
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn overflowing_squares_give_infinity_with_finite_points() {
+    let a = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]].map(|p| p.map(|c| c * 1e30));
+    let b = a.map(|p| [p[0], p[1], p[2] + 3e30]);
+    for e in engines() {
+        let (mut d, mut p, mut q) = ([0.0f32], [[0.0f32; 3]], [[0.0f32; 3]]);
+        e.closest_points_triangle_triangle(Prims::One(&a), Prims::One(&b), &mut d, &mut p, &mut q).unwrap();
+        assert_eq!(d[0], f32::INFINITY);
+        assert!(p[0].iter().chain(q[0].iter()).all(|c| c.is_finite()));
+        assert_eq!((q[0][2] - p[0][2]), 3e30);
+    }
+}
