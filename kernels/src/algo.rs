@@ -330,7 +330,7 @@ fn vertex_faces<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
 fn contact_points<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
     let pierce = |a: &[V3<L>; 3], b: &[V3<L>; 3], flip: bool, best: &mut Res<L>| {
         let ea = edges(a);
-        let n = b[1].sub(b[0]).cross(b[2].sub(b[0]));
+        let n = b[1].sub(b[0]).cross_accurate(b[2].sub(b[0]));
         for k in 0..3 {
             let h0 = a[k].sub(b[0]).dot(n);
             let h1 = a[(k + 1) % 3].sub(b[0]).dot(n);

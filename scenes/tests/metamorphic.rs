@@ -1,0 +1,83 @@
+//! Metamorphic properties judged against the oracle: swapping the triangles and permuting each
+//! triangle's vertices (all 36 combinations) must stay within the bound table; power-of-two
+//! scaling must scale every variant's answer exactly (barring overflow and underflow).
+
+use tridist::Real;
+use tridist_scenes::bounds::bound;
+use tridist_scenes::eval::{run, summarise, truth, Query, Variant};
+use tridist_scenes::{families, Case, Family};
+
+const PERMS: [[usize; 3]; 6] = [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]];
+
+fn permuted<T: Real>(c: &Case<T>, pa: [usize; 3], pb: [usize; 3], swap: bool) -> Case<T> {
+    let a = pa.map(|k| c.a[k]);
+    let b = pb.map(|k| c.b[k]);
+    let (a, b) = if swap { (b, a) } else { (a, b) };
+    Case { label: format!("{}/perm{pa:?}{pb:?}/swap{swap}", c.label), a, b }
+}
+
+fn permutations_within_bounds<T: Real>() {
+    for family in [Family::Random, Family::Degenerate, Family::Parallel, Family::NearParallel, Family::Touching, Family::NearMiss, Family::Intersecting] {
+        let base = families::generate::<T>(family, tridist_scenes::seed() ^ 0x5eed, 12);
+        let tr = truth(Query::TriTri, &base);
+        for swap in [false, true] {
+            for pa in PERMS {
+                for pb in PERMS {
+                    let cases: Vec<_> = base.iter().map(|c| permuted(c, pa, pb, swap)).collect();
+                    for v in Variant::ALL {
+                        for q in [Query::TriTri, Query::TriTriBrute, Query::Intersect] {
+                            let Ok(out) = run(q, v, &cases) else { continue };
+                            let (st, _) = summarise(q, &cases, &tr, &out);
+                            let b = bound(q, v, T::NAME, family);
+                            let bad = st.contact_misses + st.false_zeros + st.nonfinite;
+                            assert!(
+                                st.max_excess <= b.max_excess && st.max_point_error <= b.max_point_error && bad <= b.max_misclassified,
+                                "{} {} {} {}: perm {pa:?} {pb:?} swap {swap}: {st:?} vs {b:?}; worst {}",
+                                q.name(), v.name(), T::NAME, family.name(), st.worst.map(|w| families_line(&cases[w])).unwrap_or_default()
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn families_line<T: Real>(c: &Case<T>) -> String {
+    tridist_scenes::eval::case_line(c)
+}
+
+#[test]
+fn swaps_and_vertex_permutations_f32() {
+    permutations_within_bounds::<f32>();
+}
+
+#[test]
+fn swaps_and_vertex_permutations_f64() {
+    permutations_within_bounds::<f64>();
+}
+
+#[test]
+fn power_of_two_scaling_is_exact_on_every_family() {
+    for family in Family::ALL {
+        let base = families::generate::<f64>(family, tridist_scenes::seed(), 40);
+        for k in [-40i32, -3, 5, 30] {
+            let f = 2f64.powi(k);
+            let scaled: Vec<_> = base
+                .iter()
+                .map(|c| Case { label: c.label.clone(), a: c.a.map(|p| p.map(|x| x * f)), b: c.b.map(|p| p.map(|x| x * f)) })
+                .collect();
+            for v in Variant::ALL {
+                for q in [Query::TriTri, Query::TriTriBrute, Query::SegSeg, Query::PointTri] {
+                    let (Ok(o1), Ok(o2)) = (run(q, v, &base), run(q, v, &scaled)) else { continue };
+                    for i in 0..base.len() {
+                        let want = o1.d[i] * f * f;
+                        if want == 0.0 || (want.abs() >= f64::MIN_POSITIVE && want.is_finite()) {
+                            assert_eq!(o2.d[i].to_bits(), want.to_bits(), "{} {} {} 2^{k}: {}", q.name(), v.name(), family.name(), base[i].label);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

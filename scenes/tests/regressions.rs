@@ -1,0 +1,54 @@
+//! Replays the committed regression cases (`tests/regressions/*.txt`: one labelled case per
+//! line, `#` comments) on every variant and precision against the oracle and the bound table.
+//! The family is the label's first path component. Cases found by tests and fuzzing are added
+//! here with a comment naming the root cause.
+
+use tridist::Real;
+use tridist_scenes::bounds::bound;
+use tridist_scenes::eval::{parse_case_line, run, summarise, truth, Query, Variant};
+use tridist_scenes::Family;
+
+fn replay<T: Real>(file: &str, text: &str) -> usize {
+    let mut n = 0;
+    for (ln, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let case = parse_case_line::<T>(line).unwrap_or_else(|e| panic!("{file}:{}: {e}", ln + 1));
+        let family = Family::parse(case.label.split('/').next().unwrap_or("")).unwrap_or(Family::Random);
+        let cases = vec![case];
+        for q in Query::ALL {
+            let tr = truth(q, &cases);
+            for v in Variant::ALL {
+                let Ok(out) = run(q, v, &cases) else { continue };
+                let (st, _) = summarise(q, &cases, &tr, &out);
+                let b = bound(q, v, T::NAME, family);
+                let bad = st.contact_misses + st.false_zeros + st.nonfinite;
+                assert!(
+                    st.max_excess <= b.max_excess && st.max_point_error <= b.max_point_error && bad <= b.max_misclassified,
+                    "{file}:{}: {} {} {}: {st:?} vs {b:?}", ln + 1, q.name(), v.name(), T::NAME
+                );
+            }
+        }
+        n += 1;
+    }
+    n
+}
+
+#[test]
+fn replay_regressions() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions");
+    let mut total = 0;
+    for entry in std::fs::read_dir(&dir).expect("tests/regressions exists") {
+        let path = entry.expect("readable").path();
+        if path.extension().is_some_and(|e| e == "txt") {
+            let text = std::fs::read_to_string(&path).expect("readable");
+            let name = path.display().to_string();
+            total += replay::<f64>(&name, &text);
+            // f32: the same decimals rounded to f32 (a different but equally valid case).
+            replay::<f32>(&name, &text);
+        }
+    }
+    assert!(total > 0, "no regression case found in {}", dir.display());
+}
