@@ -71,7 +71,8 @@ fn detected() -> &'static [bool; 4] {
         {
             let sse = std::is_x86_feature_detected!("sse4.1");
             let avx = std::is_x86_feature_detected!("avx");
-            let avx2fma = avx && std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma");
+            let avx2fma =
+                avx && std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma");
             [true, sse, avx, avx2fma]
         }
         #[cfg(not(target_arch = "x86_64"))]

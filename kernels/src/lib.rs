@@ -117,10 +117,9 @@ impl core::fmt::Display for Error {
                 write!(f, "unknown variant {s:?} (expected scalar, sse41, avx or avx2fma)")
             }
             Error::InvalidMargin => write!(f, "margin must be finite and non-negative"),
-            Error::IndexOutOfRange { triangle, index, vertices } => write!(
-                f,
-                "triangle {triangle} uses vertex index {index}, but there are {vertices} vertices"
-            ),
+            Error::IndexOutOfRange { triangle, index, vertices } => {
+                write!(f, "triangle {triangle} uses vertex index {index}, but there are {vertices} vertices")
+            }
         }
     }
 }
@@ -554,7 +553,11 @@ pub fn intersect_triangle_triangle<T: Real>(a: &Triangle<T>, b: &Triangle<T>) ->
 /// assert_eq!(tridist::within_margin_triangle_triangle(&a, &b, 3.0), Ok(Some(4.0)));
 /// assert_eq!(tridist::within_margin_triangle_triangle(&a, &b, 1.0), Ok(None));
 /// ```
-pub fn within_margin_triangle_triangle<T: Real>(a: &Triangle<T>, b: &Triangle<T>, margin: T) -> Result<Option<T>, Error> {
+pub fn within_margin_triangle_triangle<T: Real>(
+    a: &Triangle<T>,
+    b: &Triangle<T>,
+    margin: T,
+) -> Result<Option<T>, Error> {
     let mut out = [T::ZERO];
     Engine::scalar().within_margin_triangle_triangle(Prims::One(a), Prims::One(b), margin, &mut out)?;
     Ok(if out[0] == T::INFINITY { None } else { Some(out[0]) })

@@ -26,8 +26,8 @@ fn pairs<T: tridist::Real>(n: usize) -> Vec<(Triangle<T>, Triangle<T>)> {
             let a = r.tri::<T>();
             let mut b = r.tri::<T>();
             match i % 5 {
-                1 => b[1] = a[0],                 // shared vertex
-                2 => b = [a[0], a[1], a[0]],      // degenerate, touching
+                1 => b[1] = a[0],                                // shared vertex
+                2 => b = [a[0], a[1], a[0]],                     // degenerate, touching
                 3 => b = a.map(|p| [p[0], p[1], p[2] + T::ONE]), // parallel copy
                 _ => {}
             }
@@ -60,7 +60,12 @@ fn same_bits_in_every_lane_position_and_in_the_tail() {
                 e.closest_points_triangle_triangle(&ba, &bb, &mut d, &mut p, &mut q).unwrap();
                 for k in 0..len {
                     let (rd, rp, rq) = alone[start + k];
-                    assert_eq!(d[k].to_bits(), rd.to_bits(), "{:?} len {len} start {start} lane {k}", e.isa());
+                    assert_eq!(
+                        d[k].to_bits(),
+                        rd.to_bits(),
+                        "{:?} len {len} start {start} lane {k}",
+                        e.isa()
+                    );
                     assert_eq!(p[k], rp);
                     assert_eq!(q[k], rq);
                 }
@@ -79,7 +84,8 @@ fn soa_aos_and_single_queries_agree_on_the_scalar_variant() {
     let b: Vec<_> = ps.iter().map(|x| x.1).collect();
     let e = Engine::scalar();
     let (mut soa, mut aos) = (vec![0.0; 64], vec![0.0; 64]);
-    e.sqdist_triangle_triangle(&TriangleBatch::from_slice(&a), &TriangleBatch::from_slice(&b), &mut soa).unwrap();
+    e.sqdist_triangle_triangle(&TriangleBatch::from_slice(&a), &TriangleBatch::from_slice(&b), &mut soa)
+        .unwrap();
     e.sqdist_triangle_triangle(&a, &b, &mut aos).unwrap();
     assert_eq!(soa, aos);
     for (i, (x, y)) in ps.iter().enumerate() {
@@ -96,7 +102,8 @@ fn one_against_many_equals_pairs() {
     for e in engines() {
         let (mut x, mut y) = (vec![0.0f32; b.len()], vec![0.0f32; b.len()]);
         e.sqdist_triangle_triangle(&one, &TriangleBatch::from_slice(&b), &mut x).unwrap();
-        e.sqdist_triangle_triangle(&TriangleBatch::from_slice(&a), &TriangleBatch::from_slice(&b), &mut y).unwrap();
+        e.sqdist_triangle_triangle(&TriangleBatch::from_slice(&a), &TriangleBatch::from_slice(&b), &mut y)
+            .unwrap();
         assert_eq!(x, y, "{:?}", e.isa());
     }
 }
@@ -114,7 +121,14 @@ fn non_finite_input_gives_nan_and_none_without_touching_other_lanes() {
             e.sqdist_triangle_triangle(&clean, &b, &mut reference).unwrap();
             let mut d = vec![0.0; 9];
             let (mut p, mut q) = (vec![[0.0; 3]; 9], vec![[0.0; 3]; 9]);
-            e.closest_points_triangle_triangle(&TriangleBatch::from_slice(&a), &TriangleBatch::from_slice(&b), &mut d, &mut p, &mut q).unwrap();
+            e.closest_points_triangle_triangle(
+                &TriangleBatch::from_slice(&a),
+                &TriangleBatch::from_slice(&b),
+                &mut d,
+                &mut p,
+                &mut q,
+            )
+            .unwrap();
             assert!(d[4].is_nan() && p[4][0].is_nan() && q[4][0].is_nan());
             for k in (0..9).filter(|&k| k != 4) {
                 assert_eq!(d[k].to_bits(), reference[k].to_bits(), "{:?} lane {k} disturbed", e.isa());
@@ -142,10 +156,19 @@ fn misuse_is_an_error_not_a_panic() {
     let b = TriangleBatch::from_slice(&ps_f32().repeat(4));
     for e in engines() {
         let mut out = vec![0.0f32; 5];
-        assert!(matches!(e.sqdist_triangle_triangle(&a, &b, &mut out), Err(Error::LengthMismatch { what: "b", expected: 5, found: 4 })));
-        assert!(matches!(e.sqdist_triangle_triangle(&a, &a, &mut out[..2]), Err(Error::LengthMismatch { what: "out", .. })));
+        assert!(matches!(
+            e.sqdist_triangle_triangle(&a, &b, &mut out),
+            Err(Error::LengthMismatch { what: "b", expected: 5, found: 4 })
+        ));
+        assert!(matches!(
+            e.sqdist_triangle_triangle(&a, &a, &mut out[..2]),
+            Err(Error::LengthMismatch { what: "out", .. })
+        ));
         let (mut p, mut q) = (vec![[0.0; 3]; 5], vec![[0.0; 3]; 4]);
-        assert!(matches!(e.closest_points_triangle_triangle(&a, &a, &mut out, &mut p, &mut q), Err(Error::LengthMismatch { what: "out_q", .. })));
+        assert!(matches!(
+            e.closest_points_triangle_triangle(&a, &a, &mut out, &mut p, &mut q),
+            Err(Error::LengthMismatch { what: "out_q", .. })
+        ));
         assert_eq!(e.within_margin_triangle_triangle(&a, &a, -1.0, &mut out), Err(Error::InvalidMargin));
         assert_eq!(e.within_margin_triangle_triangle(&a, &a, f32::NAN, &mut out), Err(Error::InvalidMargin));
         // empty batches are fine
@@ -154,7 +177,10 @@ fn misuse_is_an_error_not_a_panic() {
         let segs = SegmentBatch::<f32>::from_slice(&[]);
         assert_eq!(e.sqdist_segment_segment(&segs, &segs, &mut []), Ok(()));
     }
-    assert!(matches!(tridist::within_margin_triangle_triangle(&ps_f32()[0], &ps_f32()[0], f32::INFINITY), Err(Error::InvalidMargin)));
+    assert!(matches!(
+        tridist::within_margin_triangle_triangle(&ps_f32()[0], &ps_f32()[0], f32::INFINITY),
+        Err(Error::InvalidMargin)
+    ));
     assert!(TriangleBatch::from_mesh(&[[0.0f32; 3]; 2], &[[0, 1, 2]]).is_err());
     assert_eq!(Isa::parse("avx512"), None);
 }

@@ -10,14 +10,22 @@ fn bench(c: &mut Criterion) {
     let mut s = 42u64;
     let pairs: Vec<([[f32; 3]; 3], [[f32; 3]; 3])> = (0..256)
         .map(|_| {
-            let mut t = || [[rng(&mut s), rng(&mut s), rng(&mut s)], [rng(&mut s), rng(&mut s), rng(&mut s)], [rng(&mut s), rng(&mut s), rng(&mut s)]];
+            let mut t = || {
+                [
+                    [rng(&mut s), rng(&mut s), rng(&mut s)],
+                    [rng(&mut s), rng(&mut s), rng(&mut s)],
+                    [rng(&mut s), rng(&mut s), rng(&mut s)],
+                ]
+            };
             (t(), t())
         })
         .collect();
     let mut g = c.benchmark_group("oracle");
     g.throughput(Throughput::Elements(pairs.len() as u64));
     g.bench_function("tri_tri_random_unit", |b| {
-        b.iter(|| pairs.iter().filter(|(a, b)| tridist_oracle::sqdist_triangle_triangle(a, b).unwrap() == 0).count())
+        b.iter(|| {
+            pairs.iter().filter(|(a, b)| tridist_oracle::sqdist_triangle_triangle(a, b).unwrap() == 0).count()
+        })
     });
     g.finish();
 }

@@ -101,11 +101,7 @@ pub(crate) fn cross(a: &P3, b: &P3) -> P3 {
 
 /// `a + d * t`.
 pub(crate) fn lerp(a: &P3, d: &P3, t: &Rational) -> P3 {
-    [
-        Rational::from(&d[0] * t) + &a[0],
-        Rational::from(&d[1] * t) + &a[1],
-        Rational::from(&d[2] * t) + &a[2],
-    ]
+    [Rational::from(&d[0] * t) + &a[0], Rational::from(&d[1] * t) + &a[1], Rational::from(&d[2] * t) + &a[2]]
 }
 
 fn dist2(a: &P3, b: &P3) -> Rational {
@@ -153,7 +149,8 @@ pub fn segment_segment(a: &[P3; 2], b: &[P3; 2]) -> Exact {
     if denom != 0 {
         let s = (Rational::from(&bb * &f) - Rational::from(&c * &e)) / &denom;
         let t = (Rational::from(&aa * &f) - Rational::from(&bb * &c)) / &denom;
-        if s >= 0 && s <= 1 && t >= 0 && t <= 1 {
+        let unit = |x: &Rational| *x >= 0 && *x <= 1;
+        if unit(&s) && unit(&t) {
             let p = lerp(&a[0], &d1, &s);
             let q = lerp(&b[0], &d2, &t);
             keep_min(&mut best, Exact { d2: dist2(&p, &q), p, q });
@@ -232,7 +229,7 @@ fn piercing(a: &[P3; 3], b: &[P3; 3]) -> Option<P3> {
     for k in 0..3 {
         let (h0, h1) = (&h[k], &h[(k + 1) % 3]);
         if (*h0 < 0 && *h1 > 0) || (*h0 > 0 && *h1 < 0) {
-            let tpar = Rational::from(h0 / Rational::from(h0 - h1));
+            let tpar = h0 / Rational::from(h0 - h1);
             let x = lerp(&a[k], &sub(&a[(k + 1) % 3], &a[k]), &tpar);
             // Inside test in the plane: x on the inner side of all three edges.
             let inside = (0..3).all(|m| {
@@ -305,12 +302,14 @@ pub fn triangle_triangle_kkt(s: &[P3; 3], t: &[P3; 3]) -> Exact {
             } else {
                 let m: Vec<Vec<Rational>> =
                     (0..k).map(|i| (0..k).map(|j| dot(&dirs[i], &dirs[j])).collect()).collect();
-                let rhs: Vec<Rational> = (0..k).map(|i| Rational::from(-dot(&dirs[i], &w))).collect();
+                let rhs: Vec<Rational> = (0..k).map(|i| -dot(&dirs[i], &w)).collect();
                 solve(m, rhs)
             };
             let Some(theta) = theta else { continue };
             let (tf, tg) = theta.split_at(df.len());
-            let ok = |p: &[Rational]| p.iter().all(|x| *x >= 0) && p.iter().fold(Rational::new(), |a, x| a + x) <= 1;
+            let ok = |p: &[Rational]| {
+                p.iter().all(|x| *x >= 0) && p.iter().fold(Rational::new(), |a, x| a + x) <= 1
+            };
             if !ok(tf) || !ok(tg) {
                 continue;
             }
@@ -332,7 +331,10 @@ pub fn triangle_triangle_kkt(s: &[P3; 3], t: &[P3; 3]) -> Exact {
 ///
 /// # Errors
 /// [`NonFinite`] when a coordinate is NaN or infinite.
-pub fn sqdist_triangle_triangle_kkt<F: Float>(a: &[[F; 3]; 3], b: &[[F; 3]; 3]) -> Result<Rational, NonFinite> {
+pub fn sqdist_triangle_triangle_kkt<F: Float>(
+    a: &[[F; 3]; 3],
+    b: &[[F; 3]; 3],
+) -> Result<Rational, NonFinite> {
     Ok(triangle_triangle_kkt(&exact_points(a)?, &exact_points(b)?).d2)
 }
 

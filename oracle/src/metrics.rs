@@ -23,9 +23,11 @@ pub struct Precision {
 }
 
 /// f32.
-pub const F32: Precision = Precision { u: 5.960464477539063e-8, min_normal: f32::MIN_POSITIVE as f64, name: "f32" };
+pub const F32: Precision =
+    Precision { u: 5.960464477539063e-8, min_normal: f32::MIN_POSITIVE as f64, name: "f32" };
 /// f64.
-pub const F64: Precision = Precision { u: 1.1102230246251565e-16, min_normal: f64::MIN_POSITIVE, name: "f64" };
+pub const F64: Precision =
+    Precision { u: 1.1102230246251565e-16, min_normal: f64::MIN_POSITIVE, name: "f64" };
 
 impl Precision {
     /// Correctly rounds an exact value in this precision (returned as f64).
@@ -113,7 +115,7 @@ pub fn ulp_error(d2_hat: f64, exact: &Rational, s: f64, prec: Precision) -> Opti
 
 /// A contact miss: the exact distance is 0 but the kernel reports more than `c*u*S`.
 pub fn contact_miss(d2_hat: f64, exact: &Rational, s: f64, prec: Precision, c: f64) -> bool {
-    *exact == 0 && !(d2_hat.sqrt() <= c * prec.u * s)
+    *exact == 0 && (d2_hat.is_nan() || d2_hat.sqrt() > c * prec.u * s)
 }
 
 /// A strict false zero: the exact distance is positive (and does not round to 0), the kernel

@@ -40,7 +40,7 @@ fn round_abs(a: &Rational, fmt: Format) -> f64 {
         return f64::INFINITY;
     }
     let qe = e.max(fmt.emin) - (fmt.p - 1);
-    let scaled = Rational::from(a * pow2_rational(-qe));
+    let scaled = a * pow2_rational(-qe);
     let (frac, mut mi) = scaled.fract_floor(Integer::new());
     let half = Rational::from((1, 2));
     if frac > half || (frac == half && mi.is_odd()) {

@@ -25,7 +25,8 @@ pub enum Query {
 
 impl Query {
     /// Every query judged against the oracle.
-    pub const ALL: [Query; 5] = [Query::SegSeg, Query::PointTri, Query::TriTri, Query::TriTriBrute, Query::Intersect];
+    pub const ALL: [Query; 5] =
+        [Query::SegSeg, Query::PointTri, Query::TriTri, Query::TriTriBrute, Query::Intersect];
     /// Short name.
     pub fn name(self) -> &'static str {
         match self {
@@ -59,7 +60,8 @@ pub enum Variant {
 
 impl Variant {
     /// Every variant.
-    pub const ALL: [Variant; 5] = [Variant::Scalar, Variant::Soa, Variant::Sse41, Variant::Avx, Variant::Avx2Fma];
+    pub const ALL: [Variant; 5] =
+        [Variant::Scalar, Variant::Soa, Variant::Sse41, Variant::Avx, Variant::Avx2Fma];
     /// Short name.
     pub fn name(self) -> &'static str {
         match self {
@@ -129,7 +131,8 @@ pub fn run<T: Real>(query: Query, variant: Variant, cases: &[Case<T>]) -> Result
             let a: Vec<_> = cases.iter().map(|c| c.a).collect();
             let b: Vec<_> = cases.iter().map(|c| c.b).collect();
             let (ba, bb) = (TriangleBatch::from_slice(&a), TriangleBatch::from_slice(&b));
-            let (pa, pb): (Prims<T, 3>, Prims<T, 3>) = if aos { ((&a).into(), (&b).into()) } else { ((&ba).into(), (&bb).into()) };
+            let (pa, pb): (Prims<T, 3>, Prims<T, 3>) =
+                if aos { ((&a).into(), (&b).into()) } else { ((&ba).into(), (&bb).into()) };
             if query == Query::TriTri {
                 e.closest_points_triangle_triangle(pa, pb, &mut o.d, &mut o.p, &mut o.q)?;
             } else {
@@ -146,11 +149,14 @@ pub fn run<T: Real>(query: Query, variant: Variant, cases: &[Case<T>]) -> Result
             } else {
                 e.intersect_triangle_triangle(&ba, &bb, &mut flags)?;
             }
-            o.d = flags.iter().map(|f| match f {
-                Some(true) => T::ZERO,
-                Some(false) => T::ONE,
-                None => T::NAN,
-            }).collect();
+            o.d = flags
+                .iter()
+                .map(|f| match f {
+                    Some(true) => T::ZERO,
+                    Some(false) => T::ONE,
+                    None => T::NAN,
+                })
+                .collect();
         }
         Query::SegSeg => {
             let (a, b): (Vec<_>, Vec<_>) = cases.iter().map(families::segments).unzip();
@@ -162,10 +168,13 @@ pub fn run<T: Real>(query: Query, variant: Variant, cases: &[Case<T>]) -> Result
             }
         }
         Query::PointTri => {
-            let (a, b): (Vec<_>, Vec<_>) = cases.iter().map(|c| {
-                let (p, t) = families::point_triangle(c);
-                ([p], t)
-            }).unzip();
+            let (a, b): (Vec<_>, Vec<_>) = cases
+                .iter()
+                .map(|c| {
+                    let (p, t) = families::point_triangle(c);
+                    ([p], t)
+                })
+                .unzip();
             let (ba, bb) = (tridist::PointBatch::from_slice(&a), TriangleBatch::from_slice(&b));
             if aos {
                 e.closest_point_point_triangle(&a, &b, &mut o.d, &mut o.q)?;
@@ -224,9 +233,23 @@ pub fn truth<T: Real>(query: Query, cases: &[Case<T>]) -> Vec<Truth> {
         .map(|c| {
             let (a, b) = exact_prims(query, c);
             let d2 = match query {
-                Query::SegSeg => tridist_oracle::segment_segment(&[a[0].clone(), a[1].clone()], &[b[0].clone(), b[1].clone()]).d2,
-                Query::PointTri => tridist_oracle::point_triangle(&a[0], &[b[0].clone(), b[1].clone(), b[2].clone()]).d2,
-                _ => tridist_oracle::triangle_triangle(&[a[0].clone(), a[1].clone(), a[2].clone()], &[b[0].clone(), b[1].clone(), b[2].clone()]).d2,
+                Query::SegSeg => {
+                    tridist_oracle::segment_segment(
+                        &[a[0].clone(), a[1].clone()],
+                        &[b[0].clone(), b[1].clone()],
+                    )
+                    .d2
+                }
+                Query::PointTri => {
+                    tridist_oracle::point_triangle(&a[0], &[b[0].clone(), b[1].clone(), b[2].clone()]).d2
+                }
+                _ => {
+                    tridist_oracle::triangle_triangle(
+                        &[a[0].clone(), a[1].clone(), a[2].clone()],
+                        &[b[0].clone(), b[1].clone(), b[2].clone()],
+                    )
+                    .d2
+                }
             };
             let coords = match query {
                 Query::SegSeg => {
@@ -273,7 +296,13 @@ pub fn judge<T: Real>(query: Query, c: &Case<T>, t: &Truth, out: &Output<T>, i: 
     let d = out.d[i].to_f64();
     if query == Query::Intersect {
         let exact_hit = t.d2 == 0;
-        let said = if d == 0.0 { Some(true) } else if d == 1.0 { Some(false) } else { None };
+        let said = if d == 0.0 {
+            Some(true)
+        } else if d == 1.0 {
+            Some(false)
+        } else {
+            None
+        };
         // A miss or a false overlap only counts beyond the contact tolerance.
         let tol = Rational::from_f64((CONTACT_C * pr.u * t.s).powi(2)).unwrap_or_default();
         return Judged {
@@ -285,7 +314,8 @@ pub fn judge<T: Real>(query: Query, c: &Case<T>, t: &Truth, out: &Output<T>, i: 
         };
     }
     let overflow = pr.round(&t.d2).is_infinite();
-    let nonfinite = !d.is_finite() && !(overflow && d == f64::INFINITY);
+    let documented_overflow = overflow && d == f64::INFINITY;
+    let nonfinite = !(d.is_finite() || documented_overflow);
     let excess = metrics::excess(d, &t.d2, t.s, pr);
     let mut point_error = 0.0f64;
     if !overflow && d.is_finite() {
@@ -336,15 +366,20 @@ pub struct Stats {
 }
 
 /// Judges a whole batch.
-pub fn summarise<T: Real>(query: Query, cases: &[Case<T>], truth: &[Truth], out: &Output<T>) -> (Stats, Vec<Judged>) {
+pub fn summarise<T: Real>(
+    query: Query,
+    cases: &[Case<T>],
+    truth: &[Truth],
+    out: &Output<T>,
+) -> (Stats, Vec<Judged>) {
     let js: Vec<Judged> = (0..cases.len()).map(|i| judge(query, &cases[i], &truth[i], out, i)).collect();
-    let mut ex: Vec<f64> = js.iter().map(|j| if j.excess.is_nan() { f64::INFINITY } else { j.excess }).collect();
-    let worst = (0..js.len())
-        .max_by(|&a, &b| {
-            let ka = (js[a].contact_miss || js[a].false_zero || js[a].nonfinite, ex[a].max(js[a].point_error));
-            let kb = (js[b].contact_miss || js[b].false_zero || js[b].nonfinite, ex[b].max(js[b].point_error));
-            ka.partial_cmp(&kb).unwrap_or(core::cmp::Ordering::Equal)
-        });
+    let mut ex: Vec<f64> =
+        js.iter().map(|j| if j.excess.is_nan() { f64::INFINITY } else { j.excess }).collect();
+    let worst = (0..js.len()).max_by(|&a, &b| {
+        let ka = (js[a].contact_miss || js[a].false_zero || js[a].nonfinite, ex[a].max(js[a].point_error));
+        let kb = (js[b].contact_miss || js[b].false_zero || js[b].nonfinite, ex[b].max(js[b].point_error));
+        ka.partial_cmp(&kb).unwrap_or(core::cmp::Ordering::Equal)
+    });
     ex.sort_by(|a, b| a.total_cmp(b));
     let pct = |p: f64| if ex.is_empty() { 0.0 } else { ex[((ex.len() - 1) as f64 * p).round() as usize] };
     let st = Stats {
@@ -352,7 +387,10 @@ pub fn summarise<T: Real>(query: Query, cases: &[Case<T>], truth: &[Truth], out:
         max_excess: ex.last().copied().unwrap_or(0.0),
         p99: pct(0.99),
         median: pct(0.5),
-        max_ulp: js.iter().filter_map(|j| j.ulp).fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.max(x)))),
+        max_ulp: js
+            .iter()
+            .filter_map(|j| j.ulp)
+            .fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.max(x)))),
         contact_misses: js.iter().filter(|j| j.contact_miss).count(),
         false_zeros: js.iter().filter(|j| j.false_zero).count(),
         strict_false_zeros: js.iter().filter(|j| j.false_zero_strict).count(),
@@ -365,9 +403,21 @@ pub fn summarise<T: Real>(query: Query, cases: &[Case<T>], truth: &[Truth], out:
 
 /// A reproducible description of one case and the kernel's answer, for failure messages:
 /// inputs as decimals and bits, the exact answer (rational and rounded), the kernel's answer.
-pub fn describe<T: Real>(query: Query, c: &Case<T>, t: &Truth, out: &Output<T>, i: usize, j: &Judged) -> String {
+pub fn describe<T: Real>(
+    query: Query,
+    c: &Case<T>,
+    t: &Truth,
+    out: &Output<T>,
+    i: usize,
+    j: &Judged,
+) -> String {
     let bits = |x: T| format!("{x:e} (0x{:x})", x.to_bits_u64());
-    let tri = |v: &[Point<T>]| v.iter().map(|p| format!("[{}, {}, {}]", bits(p[0]), bits(p[1]), bits(p[2]))).collect::<Vec<_>>().join(", ");
+    let tri = |v: &[Point<T>]| {
+        v.iter()
+            .map(|p| format!("[{}, {}, {}]", bits(p[0]), bits(p[1]), bits(p[2])))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
     let pr = prec::<T>();
     format!(
         "case {label} ({q}, {prec})\n  a = [{a}]\n  b = [{b}]\n  text: {line}\n  exact D* = {d2} ~ {r:e} (rounded)\n  kernel D^ = {k}\n  p^ = {p:?}, q^ = {qq:?}\n  S = {s:e}, excess E = {e}, contact miss = {cm}, false zero = {fz}, non-finite = {nf}, point error = {pe}",

@@ -167,7 +167,8 @@ fn touching(r: &mut Rng) -> (Tri, Tri, &'static str) {
             // vertex of b on the interior of a (a in plane z = c), b above.
             let a = [[-0.5, -0.5, c], [0.5, -0.5, c], [-0.5, 0.5, c]];
             let v = [dy(r) * 0.2 - 0.2, dy(r) * 0.2 - 0.2, c];
-            let b = [v, [v[0] + 0.5, v[1] + dy(r) * 0.3, c + 0.5], [v[0] + dy(r) * 0.3, v[1] + 0.5, c + 0.25]];
+            let b =
+                [v, [v[0] + 0.5, v[1] + dy(r) * 0.3, c + 0.5], [v[0] + dy(r) * 0.3, v[1] + 0.5, c + 0.25]];
             (a, b, "vertex_face")
         }
         1 => {
@@ -197,7 +198,9 @@ fn touching(r: &mut Rng) -> (Tri, Tri, &'static str) {
 
 fn armadillo() -> &'static Mesh {
     static M: OnceLock<Mesh> = OnceLock::new();
-    M.get_or_init(|| crate::mesh::carried("armadillo.off").expect("data/meshes/armadillo.off is part of the repository"))
+    M.get_or_init(|| {
+        crate::mesh::carried("armadillo.off").expect("data/meshes/armadillo.off is part of the repository")
+    })
 }
 
 fn armadillo_pairs() -> &'static Vec<(usize, usize)> {
@@ -257,10 +260,12 @@ fn gen_one<T: Real>(family: Family, r: &mut Rng) -> (Triangle<T>, Triangle<T>, &
                     let m = rot(r);
                     let len = r.range(0.5, 2.0);
                     let t = r.range(0.1, 0.9);
-                    let sl = [[0.0, 0.0, 0.0], [len, 0.0, 0.0], [len * t, len / aspect, 0.0]].map(|v| apply(&m, v));
+                    let sl = [[0.0, 0.0, 0.0], [len, 0.0, 0.0], [len * t, len / aspect, 0.0]]
+                        .map(|v| apply(&m, v));
                     let sl = sl.map(|v| [v[0] + p[0], v[1] + p[1], v[2] + p[2]]);
                     // the other triangle near the sliver: within about its length
-                    let near = rand_tri(r, -1.0, 1.0).map(|v| [v[0] * 0.5 + p[0], v[1] * 0.5 + p[1], v[2] * 0.5 + p[2]]);
+                    let near = rand_tri(r, -1.0, 1.0)
+                        .map(|v| [v[0] * 0.5 + p[0], v[1] * 0.5 + p[1], v[2] * 0.5 + p[2]]);
                     (sl, near, "sliver")
                 }
             }
@@ -277,7 +282,11 @@ fn gen_one<T: Real>(family: Family, r: &mut Rng) -> (Triangle<T>, Triangle<T>, &
                     // parallel edges along x at different y, z; faces tilted away from each other
                     let (y0, z0) = (dy(r), dy(r));
                     let a = [[-0.5, 0.0, 0.0], [0.5, 0.0, 0.0], [dy(r), -0.5, -0.5]];
-                    let b = [[dy(r) * 0.5, y0 + 0.125 * y0.signum(), z0], [dy(r) * 0.5 + 0.75, y0 + 0.125 * y0.signum(), z0], [dy(r), y0 + 0.5 * y0.signum(), z0 + 0.5]];
+                    let b = [
+                        [dy(r) * 0.5, y0 + 0.125 * y0.signum(), z0],
+                        [dy(r) * 0.5 + 0.75, y0 + 0.125 * y0.signum(), z0],
+                        [dy(r), y0 + 0.5 * y0.signum(), z0 + 0.5],
+                    ];
                     (a, b, "parallel_edges")
                 }
                 _ => {

@@ -148,7 +148,8 @@ impl Mesh {
         }
         let mut out = Vec::new();
         for (t, tri) in self.triangles.iter().enumerate() {
-            let mut seen: Vec<usize> = tri.iter().flat_map(|&v| by_vertex[v as usize].iter().copied()).filter(|&u| u > t).collect();
+            let mut seen: Vec<usize> =
+                tri.iter().flat_map(|&v| by_vertex[v as usize].iter().copied()).filter(|&u| u > t).collect();
             seen.sort_unstable();
             seen.dedup();
             out.extend(seen.into_iter().map(|u| (t, u)));

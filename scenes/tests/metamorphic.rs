@@ -17,7 +17,15 @@ fn permuted<T: Real>(c: &Case<T>, pa: [usize; 3], pb: [usize; 3], swap: bool) ->
 }
 
 fn permutations_within_bounds<T: Real>() {
-    for family in [Family::Random, Family::Degenerate, Family::Parallel, Family::NearParallel, Family::Touching, Family::NearMiss, Family::Intersecting] {
+    for family in [
+        Family::Random,
+        Family::Degenerate,
+        Family::Parallel,
+        Family::NearParallel,
+        Family::Touching,
+        Family::NearMiss,
+        Family::Intersecting,
+    ] {
         let base = families::generate::<T>(family, tridist_scenes::seed() ^ 0x5eed, 12);
         let tr = truth(Query::TriTri, &base);
         for swap in [false, true] {
@@ -31,9 +39,15 @@ fn permutations_within_bounds<T: Real>() {
                             let b = bound(q, v, T::NAME, family);
                             let bad = st.contact_misses + st.false_zeros + st.nonfinite;
                             assert!(
-                                st.max_excess <= b.max_excess && st.max_point_error <= b.max_point_error && bad <= b.max_misclassified,
+                                st.max_excess <= b.max_excess
+                                    && st.max_point_error <= b.max_point_error
+                                    && bad <= b.max_misclassified,
                                 "{} {} {} {}: perm {pa:?} {pb:?} swap {swap}: {st:?} vs {b:?}; worst {}",
-                                q.name(), v.name(), T::NAME, family.name(), st.worst.map(|w| families_line(&cases[w])).unwrap_or_default()
+                                q.name(),
+                                v.name(),
+                                T::NAME,
+                                family.name(),
+                                st.worst.map(|w| families_line(&cases[w])).unwrap_or_default()
                             );
                         }
                     }
@@ -65,7 +79,11 @@ fn power_of_two_scaling_is_exact_on_every_family() {
             let f = 2f64.powi(k);
             let scaled: Vec<_> = base
                 .iter()
-                .map(|c| Case { label: c.label.clone(), a: c.a.map(|p| p.map(|x| x * f)), b: c.b.map(|p| p.map(|x| x * f)) })
+                .map(|c| Case {
+                    label: c.label.clone(),
+                    a: c.a.map(|p| p.map(|x| x * f)),
+                    b: c.b.map(|p| p.map(|x| x * f)),
+                })
                 .collect();
             for v in Variant::ALL {
                 for q in [Query::TriTri, Query::TriTriBrute, Query::SegSeg, Query::PointTri] {
@@ -73,7 +91,15 @@ fn power_of_two_scaling_is_exact_on_every_family() {
                     for i in 0..base.len() {
                         let want = o1.d[i] * f * f;
                         if want == 0.0 || (want.abs() >= f64::MIN_POSITIVE && want.is_finite()) {
-                            assert_eq!(o2.d[i].to_bits(), want.to_bits(), "{} {} {} 2^{k}: {}", q.name(), v.name(), family.name(), base[i].label);
+                            assert_eq!(
+                                o2.d[i].to_bits(),
+                                want.to_bits(),
+                                "{} {} {} 2^{k}: {}",
+                                q.name(),
+                                v.name(),
+                                family.name(),
+                                base[i].label
+                            );
                         }
                     }
                 }

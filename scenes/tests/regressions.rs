@@ -26,8 +26,14 @@ fn replay<T: Real>(file: &str, text: &str) -> usize {
                 let b = bound(q, v, T::NAME, family);
                 let bad = st.contact_misses + st.false_zeros + st.nonfinite;
                 assert!(
-                    st.max_excess <= b.max_excess && st.max_point_error <= b.max_point_error && bad <= b.max_misclassified,
-                    "{file}:{}: {} {} {}: {st:?} vs {b:?}", ln + 1, q.name(), v.name(), T::NAME
+                    st.max_excess <= b.max_excess
+                        && st.max_point_error <= b.max_point_error
+                        && bad <= b.max_misclassified,
+                    "{file}:{}: {} {} {}: {st:?} vs {b:?}",
+                    ln + 1,
+                    q.name(),
+                    v.name(),
+                    T::NAME
                 );
             }
         }

@@ -76,8 +76,28 @@ mm_helpers!(mm256_pd, __m256d, _mm256_movemask_pd, _mm256_castsi256_pd(_mm256_se
 
 mask_type!(M32x4, __m128, _mm_and_ps, _mm_or_ps, _mm_andnot_ps, _mm_xor_ps, mm_ps, 0xf, "sse4.1");
 mask_type!(M64x2, __m128d, _mm_and_pd, _mm_or_pd, _mm_andnot_pd, _mm_xor_pd, mm_pd, 0x3, "sse4.1");
-mask_type!(M32x8, __m256, _mm256_and_ps, _mm256_or_ps, _mm256_andnot_ps, _mm256_xor_ps, mm256_ps, 0xff, "avx");
-mask_type!(M64x4, __m256d, _mm256_and_pd, _mm256_or_pd, _mm256_andnot_pd, _mm256_xor_pd, mm256_pd, 0xf, "avx");
+mask_type!(
+    M32x8,
+    __m256,
+    _mm256_and_ps,
+    _mm256_or_ps,
+    _mm256_andnot_ps,
+    _mm256_xor_ps,
+    mm256_ps,
+    0xff,
+    "avx"
+);
+mask_type!(
+    M64x4,
+    __m256d,
+    _mm256_and_pd,
+    _mm256_or_pd,
+    _mm256_andnot_pd,
+    _mm256_xor_pd,
+    mm256_pd,
+    0xf,
+    "avx"
+);
 
 /// One vector type: `$fma` says whether `mul_add` is fused.
 macro_rules! vec_type {
@@ -193,32 +213,110 @@ macro_rules! vec_type {
     };
 }
 
-vec_type!(F32x4, f32, 4, __m128, M32x4, "sse4.1",
-    set1 = _mm_set1_ps, loadu = _mm_loadu_ps, storeu = _mm_storeu_ps,
-    add = _mm_add_ps, sub = _mm_sub_ps, mul = _mm_mul_ps, div = _mm_div_ps,
-    min = _mm_min_ps, max = _mm_max_ps, sqrt = _mm_sqrt_ps, and = _mm_and_ps,
-    andnot = _mm_andnot_ps, blendv = _mm_blendv_ps, fmadd = _mm_fmadd_ps,
-    lt = _mm_cmplt_ps, le = _mm_cmple_ps, eq = _mm_cmpeq_ps, bits = u32);
-vec_type!(F64x2, f64, 2, __m128d, M64x2, "sse4.1",
-    set1 = _mm_set1_pd, loadu = _mm_loadu_pd, storeu = _mm_storeu_pd,
-    add = _mm_add_pd, sub = _mm_sub_pd, mul = _mm_mul_pd, div = _mm_div_pd,
-    min = _mm_min_pd, max = _mm_max_pd, sqrt = _mm_sqrt_pd, and = _mm_and_pd,
-    andnot = _mm_andnot_pd, blendv = _mm_blendv_pd, fmadd = _mm_fmadd_pd,
-    lt = _mm_cmplt_pd, le = _mm_cmple_pd, eq = _mm_cmpeq_pd, bits = u64);
-vec_type!(F32x8, f32, 8, __m256, M32x8, "avx",
-    set1 = _mm256_set1_ps, loadu = _mm256_loadu_ps, storeu = _mm256_storeu_ps,
-    add = _mm256_add_ps, sub = _mm256_sub_ps, mul = _mm256_mul_ps, div = _mm256_div_ps,
-    min = _mm256_min_ps, max = _mm256_max_ps, sqrt = _mm256_sqrt_ps, and = _mm256_and_ps,
-    andnot = _mm256_andnot_ps, blendv = _mm256_blendv_ps, fmadd = _mm256_fmadd_ps,
-    lt = _mm256_cmp_ps::<_CMP_LT_OQ>, le = _mm256_cmp_ps::<_CMP_LE_OQ>,
-    eq = _mm256_cmp_ps::<_CMP_EQ_OQ>, bits = u32);
-vec_type!(F64x4, f64, 4, __m256d, M64x4, "avx",
-    set1 = _mm256_set1_pd, loadu = _mm256_loadu_pd, storeu = _mm256_storeu_pd,
-    add = _mm256_add_pd, sub = _mm256_sub_pd, mul = _mm256_mul_pd, div = _mm256_div_pd,
-    min = _mm256_min_pd, max = _mm256_max_pd, sqrt = _mm256_sqrt_pd, and = _mm256_and_pd,
-    andnot = _mm256_andnot_pd, blendv = _mm256_blendv_pd, fmadd = _mm256_fmadd_pd,
-    lt = _mm256_cmp_pd::<_CMP_LT_OQ>, le = _mm256_cmp_pd::<_CMP_LE_OQ>,
-    eq = _mm256_cmp_pd::<_CMP_EQ_OQ>, bits = u64);
+vec_type!(
+    F32x4,
+    f32,
+    4,
+    __m128,
+    M32x4,
+    "sse4.1",
+    set1 = _mm_set1_ps,
+    loadu = _mm_loadu_ps,
+    storeu = _mm_storeu_ps,
+    add = _mm_add_ps,
+    sub = _mm_sub_ps,
+    mul = _mm_mul_ps,
+    div = _mm_div_ps,
+    min = _mm_min_ps,
+    max = _mm_max_ps,
+    sqrt = _mm_sqrt_ps,
+    and = _mm_and_ps,
+    andnot = _mm_andnot_ps,
+    blendv = _mm_blendv_ps,
+    fmadd = _mm_fmadd_ps,
+    lt = _mm_cmplt_ps,
+    le = _mm_cmple_ps,
+    eq = _mm_cmpeq_ps,
+    bits = u32
+);
+vec_type!(
+    F64x2,
+    f64,
+    2,
+    __m128d,
+    M64x2,
+    "sse4.1",
+    set1 = _mm_set1_pd,
+    loadu = _mm_loadu_pd,
+    storeu = _mm_storeu_pd,
+    add = _mm_add_pd,
+    sub = _mm_sub_pd,
+    mul = _mm_mul_pd,
+    div = _mm_div_pd,
+    min = _mm_min_pd,
+    max = _mm_max_pd,
+    sqrt = _mm_sqrt_pd,
+    and = _mm_and_pd,
+    andnot = _mm_andnot_pd,
+    blendv = _mm_blendv_pd,
+    fmadd = _mm_fmadd_pd,
+    lt = _mm_cmplt_pd,
+    le = _mm_cmple_pd,
+    eq = _mm_cmpeq_pd,
+    bits = u64
+);
+vec_type!(
+    F32x8,
+    f32,
+    8,
+    __m256,
+    M32x8,
+    "avx",
+    set1 = _mm256_set1_ps,
+    loadu = _mm256_loadu_ps,
+    storeu = _mm256_storeu_ps,
+    add = _mm256_add_ps,
+    sub = _mm256_sub_ps,
+    mul = _mm256_mul_ps,
+    div = _mm256_div_ps,
+    min = _mm256_min_ps,
+    max = _mm256_max_ps,
+    sqrt = _mm256_sqrt_ps,
+    and = _mm256_and_ps,
+    andnot = _mm256_andnot_ps,
+    blendv = _mm256_blendv_ps,
+    fmadd = _mm256_fmadd_ps,
+    lt = _mm256_cmp_ps::<_CMP_LT_OQ>,
+    le = _mm256_cmp_ps::<_CMP_LE_OQ>,
+    eq = _mm256_cmp_ps::<_CMP_EQ_OQ>,
+    bits = u32
+);
+vec_type!(
+    F64x4,
+    f64,
+    4,
+    __m256d,
+    M64x4,
+    "avx",
+    set1 = _mm256_set1_pd,
+    loadu = _mm256_loadu_pd,
+    storeu = _mm256_storeu_pd,
+    add = _mm256_add_pd,
+    sub = _mm256_sub_pd,
+    mul = _mm256_mul_pd,
+    div = _mm256_div_pd,
+    min = _mm256_min_pd,
+    max = _mm256_max_pd,
+    sqrt = _mm256_sqrt_pd,
+    and = _mm256_and_pd,
+    andnot = _mm256_andnot_pd,
+    blendv = _mm256_blendv_pd,
+    fmadd = _mm256_fmadd_pd,
+    lt = _mm256_cmp_pd::<_CMP_LT_OQ>,
+    le = _mm256_cmp_pd::<_CMP_LE_OQ>,
+    eq = _mm256_cmp_pd::<_CMP_EQ_OQ>,
+    bits = u64
+);
 
 /// The `#[target_feature]` entry points: thin wrappers that instantiate the generic driver.
 macro_rules! entry {
