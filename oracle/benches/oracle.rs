@@ -6,9 +6,11 @@ fn rng(state: &mut u64) -> f32 {
     ((*state >> 40) as f32) / (1u64 << 24) as f32
 }
 
+type Tri = [[f32; 3]; 3];
+
 fn bench(c: &mut Criterion) {
     let mut s = 42u64;
-    let pairs: Vec<([[f32; 3]; 3], [[f32; 3]; 3])> = (0..256)
+    let pairs: Vec<(Tri, Tri)> = (0..256)
         .map(|_| {
             let mut t = || {
                 [
