@@ -12,6 +12,7 @@ pub mod bounds;
 pub mod eval;
 pub mod families;
 pub mod mesh;
+pub mod protocol;
 pub mod rng;
 
 pub use families::{Case, Family};

@@ -1,0 +1,114 @@
+//! The benchmark protocol of Shellshear & Ytterlid (seed 000, section 3) on real meshes: one mesh
+//! moved in 10 steps from a non-colliding position through the other to another non-colliding
+//! one while rotating 360 degrees; at each step, triangles of the moving mesh against triangles
+//! of the static one, either four triangles sharing a vertex ("neighbouring") or four random
+//! triangles ("random") against one static triangle. Segment-segment and point-triangle use all
+//! edge and vertex combinations of those triangle pairs, as the paper did.
+
+use tridist::Triangle;
+
+use crate::mesh::Mesh;
+use crate::rng::Rng;
+
+/// How the moving triangles of one group are chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Grouping {
+    /// Triangles sharing a vertex (the paper's "neighbouring").
+    Neighbouring,
+    /// Random triangles.
+    Random,
+}
+
+impl Grouping {
+    /// Name for reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Grouping::Neighbouring => "neighbouring",
+            Grouping::Random => "random",
+        }
+    }
+}
+
+/// The mesh's triangles, centred and scaled to fit [-1, 1]^3.
+pub fn normalised(m: &Mesh) -> Vec<Triangle<f64>> {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for v in &m.vertices {
+        for k in 0..3 {
+            lo[k] = lo[k].min(v[k]);
+            hi[k] = hi[k].max(v[k]);
+        }
+    }
+    let c = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
+    let s = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max) / 2.0;
+    (0..m.triangles.len()).map(|i| m.triangle(i).map(|p| [0, 1, 2].map(|k| (p[k] - c[k]) / s))).collect()
+}
+
+/// `n` triangle pairs (moving, static) following the protocol: 10 steps, 4 moving triangles per
+/// static triangle. Fixed seed, so every run measures the same work.
+pub fn pairs(fixed: &Mesh, moving: &Mesh, grouping: Grouping, n: usize, seed: u64) -> Vec<(Triangle<f64>, Triangle<f64>)> {
+    let st = normalised(fixed);
+    let mv = normalised(moving);
+    // triangles around each vertex of the moving mesh
+    let mut fan: Vec<Vec<usize>> = vec![Vec::new(); moving.vertices.len()];
+    for (t, tri) in moving.triangles.iter().enumerate() {
+        for &v in tri {
+            fan[v as usize].push(t);
+        }
+    }
+    let fans: Vec<&Vec<usize>> = fan.iter().filter(|f| f.len() >= 4).collect();
+    let mut r = Rng::new(seed);
+    let steps = 10;
+    let per_step = n.div_ceil(steps);
+    let mut out = Vec::with_capacity(n);
+    for step in 0..steps {
+        let f = step as f64 / (steps - 1) as f64;
+        let angle = f * std::f64::consts::TAU;
+        let (sn, cs) = angle.sin_cos();
+        let shift = -3.0 + 6.0 * f; // from one side (no contact) through to the other
+        let place = |t: Triangle<f64>| t.map(|p| [cs * p[0] - sn * p[1] + shift, sn * p[0] + cs * p[1], p[2]]);
+        while out.len() < (step + 1) * per_step && out.len() < n {
+            let s = st[r.below(st.len())];
+            let group: Vec<usize> = match grouping {
+                Grouping::Neighbouring if !fans.is_empty() => fans[r.below(fans.len())][..4].to_vec(),
+                _ => (0..4).map(|_| r.below(mv.len())).collect(),
+            };
+            for g in group {
+                if out.len() < n {
+                    out.push((place(mv[g]), s));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// All 9 edge pairs of each triangle pair.
+pub fn edge_pairs<T: Copy>(p: &[(Triangle<T>, Triangle<T>)]) -> (Vec<[[T; 3]; 2]>, Vec<[[T; 3]; 2]>) {
+    let mut a = Vec::with_capacity(9 * p.len());
+    let mut b = Vec::with_capacity(9 * p.len());
+    for (s, t) in p {
+        for i in 0..3 {
+            for j in 0..3 {
+                a.push([s[i], s[(i + 1) % 3]]);
+                b.push([t[j], t[(j + 1) % 3]]);
+            }
+        }
+    }
+    (a, b)
+}
+
+/// All 6 vertex-triangle pairs of each triangle pair.
+pub fn vertex_pairs<T: Copy>(p: &[(Triangle<T>, Triangle<T>)]) -> (Vec<[[T; 3]; 1]>, Vec<Triangle<T>>) {
+    let mut a = Vec::with_capacity(6 * p.len());
+    let mut b = Vec::with_capacity(6 * p.len());
+    for (s, t) in p {
+        for k in 0..3 {
+            a.push([s[k]]);
+            b.push(*t);
+            a.push([t[k]]);
+            b.push(*s);
+        }
+    }
+    (a, b)
+}
