@@ -86,8 +86,12 @@ pub(crate) fn unscale<L: Lanes>(r: Res<L>, p: L, finite: L::M) -> Res<L> {
     // result is the correctly rounded d*p^2 except in double-rounding ties.
     let d = r.d.mul(p).mul(p);
     let nan = L::splat(L::S::NAN);
-    let fix = |v: V3<L>| V3::select(finite, v.scale(p), V3::new(nan, nan, nan));
-    Res { d: L::select(finite, d, nan), p: fix(r.p), q: fix(r.q) }
+    let nan3 = V3::new(nan, nan, nan);
+    Res {
+        d: L::select(finite, d, nan),
+        p: V3::select(finite, r.p.scale(p), nan3),
+        q: V3::select(finite, r.q.scale(p), nan3),
+    }
 }
 
 /// Closest points of segments `p1 + s*d1` and `p2 + t*d2`, s, t in [0, 1]
@@ -323,27 +327,30 @@ fn vertex_faces<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
     }
 }
 
+/// Candidates where an edge of `a` crosses the plane of `b` (see [`contact_points`]).
+#[inline(always)]
+fn pierce<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3], flip: bool, best: &mut Res<L>) {
+    let ea = edges(a);
+    let n = b[1].sub(b[0]).cross_accurate(b[2].sub(b[0]));
+    for k in 0..3 {
+        let h0 = a[k].sub(b[0]).dot(n);
+        let h1 = a[(k + 1) % 3].sub(b[0]).dot(n);
+        // Parameter of the plane crossing, h0 / (h0 - h1), clamped to the edge; the sign is
+        // moved to the numerator so the guarded division sees a non-negative divisor.
+        let den = h0.sub(h1);
+        let num = L::select(den.lt(L::zero()), h0.neg(), h0);
+        let tpar = num.safe_div(den.abs()).clamp01();
+        let x = a[k].add_scaled(ea[k], tpar);
+        let r = point_triangle(x, b[0], b[1], b[2]);
+        keep_min(best, if flip { swap(r) } else { r });
+    }
+}
+
 /// For interpenetrating lanes: a point where an edge of one triangle pierces the other (or the
 /// nearest feature pair when none is found numerically), so that both returned closest points
 /// lie on their triangles. The distance reported is 0 regardless.
 #[inline(always)]
 fn contact_points<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
-    let pierce = |a: &[V3<L>; 3], b: &[V3<L>; 3], flip: bool, best: &mut Res<L>| {
-        let ea = edges(a);
-        let n = b[1].sub(b[0]).cross_accurate(b[2].sub(b[0]));
-        for k in 0..3 {
-            let h0 = a[k].sub(b[0]).dot(n);
-            let h1 = a[(k + 1) % 3].sub(b[0]).dot(n);
-            // Parameter of the plane crossing, h0 / (h0 - h1), clamped to the edge; the sign is
-            // moved to the numerator so the guarded division sees a non-negative divisor.
-            let den = h0.sub(h1);
-            let num = L::select(den.lt(L::zero()), h0.neg(), h0);
-            let tpar = num.safe_div(den.abs()).clamp01();
-            let x = a[k].add_scaled(ea[k], tpar);
-            let r = point_triangle(x, b[0], b[1], b[2]);
-            keep_min(best, if flip { swap(r) } else { r });
-        }
-    };
     pierce(s, t, false, best);
     pierce(t, s, true, best);
 }
@@ -442,10 +449,26 @@ pub(crate) fn tri_tri_pqp<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> Res<L> {
     keep_min(&mut vf, L::select_res(side_t, cand_t, best));
     let keep = done.not();
     best = L::select_res(keep, vf, best);
+    // Lanes neither certified nor shown disjoint: decide overlap by separating axes. The edge
+    // loop ran all nine pairs for them (no early break while a lane is open), so the
+    // brute-force answer only lacks the six vertex-face candidates.
     let undecided = done.or(disjoint).not();
     if undecided.any() {
-        let brute = tri_tri_brute(s, t);
-        best = L::select_res(undecided, brute, best);
+        let hit = intersect(s, t);
+        let apart = undecided.andnot(hit);
+        if apart.any() {
+            let mut vf = best;
+            vertex_faces(s, t, &mut vf);
+            best = L::select_res(apart, vf, best);
+        }
+        let touching = undecided.and(hit);
+        if touching.any() {
+            let mut cp = best;
+            contact_points(s, t, &mut cp);
+            best.p = V3::select(touching, cp.p, best.p);
+            best.q = V3::select(touching, cp.q, best.q);
+            best.d = L::select(touching, L::zero(), best.d);
+        }
     }
     best
 }
@@ -453,24 +476,29 @@ pub(crate) fn tri_tri_pqp<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> Res<L> {
 /// Lower bound on the distance of two triangles from their bounding boxes (squared).
 #[inline(always)]
 pub(crate) fn aabb_gap2<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> L {
-    let axis = |g: fn(&V3<L>) -> L| {
-        let (a0, a1, a2) = (g(&s[0]), g(&s[1]), g(&s[2]));
-        let (b0, b1, b2) = (g(&t[0]), g(&t[1]), g(&t[2]));
-        let lo_s = a0.min(a1).min(a2);
-        let hi_s = a0.max(a1).max(a2);
-        let lo_t = b0.min(b1).min(b2);
-        let hi_t = b0.max(b1).max(b2);
-        let gap = lo_t.sub(hi_s).max(lo_s.sub(hi_t)).max(L::zero());
-        gap.mul(gap)
-    };
-    axis(|v| v.x).add(axis(|v| v.y)).add(axis(|v| v.z))
+    gap2_axis([s[0].x, s[1].x, s[2].x], [t[0].x, t[1].x, t[2].x])
+        .add(gap2_axis([s[0].y, s[1].y, s[2].y], [t[0].y, t[1].y, t[2].y]))
+        .add(gap2_axis([s[0].z, s[1].z, s[2].z], [t[0].z, t[1].z, t[2].z]))
+}
+
+/// Squared gap between the intervals spanned by `a` and `b` (0 when they overlap).
+#[inline(always)]
+fn gap2_axis<L: Lanes>(a: [L; 3], b: [L; 3]) -> L {
+    let lo_s = a[0].min(a[1]).min(a[2]);
+    let hi_s = a[0].max(a[1]).max(a[2]);
+    let lo_t = b[0].min(b[1]).min(b[2]);
+    let hi_t = b[0].max(b[1]).max(b[2]);
+    let gap = lo_t.sub(hi_s).max(lo_s.sub(hi_t)).max(L::zero());
+    gap.mul(gap)
 }
 
 /// Helpers for selecting whole results and masks.
 pub(crate) trait SelectExt: Lanes {
+    #[inline(always)]
     fn select_res(m: Self::M, a: Res<Self>, b: Res<Self>) -> Res<Self> {
         Res { d: Self::select(m, a.d, b.d), p: V3::select(m, a.p, b.p), q: V3::select(m, a.q, b.q) }
     }
+    #[inline(always)]
     fn select_mask(m: Self::M, a: Self::M, b: Self::M) -> Self::M {
         m.and(a).or(b.andnot(m))
     }

@@ -179,14 +179,30 @@ fn store_points<L: Lanes>(v: V3<L>, out: &mut [[L::S; 3]], i: usize, n: usize) {
     }
 }
 
+/// One query on one group of lanes, selected by a constant (folded away in each instance, so
+/// no function pointer or closure stands between the `#[target_feature]` entry point and the
+/// intrinsics: everything inlines into the entry point).
 #[inline(always)]
-fn run_q<L: Lanes, const PTS: bool>(job: &mut Job<'_, L::S>, f: impl Fn(&[V3<L>; 3], &[V3<L>; 3]) -> Res<L>) {
+fn eval<L: Lanes, const Q: u8>(a: &[V3<L>; 3], b: &[V3<L>; 3], param: L::S) -> Res<L> {
+    match Q {
+        0 => q_seg_seg(a, b),
+        1 => q_point_tri(a, b),
+        2 => q_tri_tri::<L, false>(a, b),
+        3 => q_tri_tri::<L, true>(a, b),
+        4 => q_intersect(a, b),
+        _ => q_within(a, b, param),
+    }
+}
+
+#[inline(always)]
+fn run_q<L: Lanes, const Q: u8, const PTS: bool>(job: &mut Job<'_, L::S>) {
     let n = job.n;
+    let param = job.param;
     let mut i = 0;
     while i < n {
         let a = job.a.load::<L>(i);
         let b = job.b.load::<L>(i);
-        let r = f(&a, &b);
+        let r = eval::<L, Q>(&a, &b, param);
         match &mut job.d {
             DOut::Real(out) => store_lanes(r.d, out, i, n),
             DOut::Flag(out) => {
@@ -220,22 +236,21 @@ fn run_q<L: Lanes, const PTS: bool>(job: &mut Job<'_, L::S>, f: impl Fn(&[V3<L>;
 #[inline(always)]
 pub(crate) fn run<L: Lanes>(job: &mut Job<'_, L::S>) {
     let pts = job.p.is_some() || job.q.is_some();
-    let param = job.param;
     macro_rules! go {
-        ($f:expr) => {
+        ($q:literal) => {
             if pts {
-                run_q::<L, true>(job, $f)
+                run_q::<L, $q, true>(job)
             } else {
-                run_q::<L, false>(job, $f)
+                run_q::<L, $q, false>(job)
             }
         };
     }
     match job.query {
-        QueryKind::SegSeg => go!(q_seg_seg::<L>),
-        QueryKind::PointTri => go!(q_point_tri::<L>),
-        QueryKind::TriTri => go!(q_tri_tri::<L, false>),
-        QueryKind::TriTriBrute => go!(q_tri_tri::<L, true>),
-        QueryKind::Intersect => run_q::<L, false>(job, q_intersect::<L>),
-        QueryKind::Within => go!(|a: &[V3<L>; 3], b: &[V3<L>; 3]| q_within::<L>(a, b, param)),
+        QueryKind::SegSeg => go!(0),
+        QueryKind::PointTri => go!(1),
+        QueryKind::TriTri => go!(2),
+        QueryKind::TriTriBrute => go!(3),
+        QueryKind::Intersect => run_q::<L, 4, false>(job),
+        QueryKind::Within => go!(5),
     }
 }

@@ -112,16 +112,19 @@ pub(crate) trait Lanes: Copy {
 fn two_prod<L: Lanes>(a: L, b: L) -> (L, L) {
     // 2^ceil(p/2) + 1: 4097 for f32, 134217729 for f64.
     let split = L::splat(L::S::from_f64(if L::S::NAME == "f32" { 4097.0 } else { 134_217_729.0 }));
-    let halves = |x: L| {
-        let c = split.mul(x);
-        let hi = c.sub(c.sub(x));
-        (hi, x.sub(hi))
-    };
     let p = a.mul(b);
-    let (ah, al) = halves(a);
-    let (bh, bl) = halves(b);
+    let (ah, al) = halves(a, split);
+    let (bh, bl) = halves(b, split);
     let e = ah.mul(bh).sub(p).add(ah.mul(bl)).add(al.mul(bh)).add(al.mul(bl));
     (p, e)
+}
+
+/// Veltkamp splitting: `x = hi + lo` with both halves of at most half the precision.
+#[inline(always)]
+fn halves<L: Lanes>(x: L, split: L) -> (L, L) {
+    let c = split.mul(x);
+    let hi = c.sub(c.sub(x));
+    (hi, x.sub(hi))
 }
 
 impl Mask for bool {

@@ -35,7 +35,11 @@ pub fn commit() -> String {
 pub fn machine() -> String {
     let model = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string()))
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
         .unwrap_or_else(|| std::env::consts::ARCH.to_string());
     let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
     let isas: Vec<&str> = tridist::Isa::ALL.iter().filter(|i| i.is_available()).map(|i| i.name()).collect();
@@ -69,7 +73,14 @@ impl Progress {
         self.done += 1;
         let w = 30;
         let filled = w * self.done / self.total;
-        eprint!("\r[{}{}] {:>4}/{:<4} {:<48}", "#".repeat(filled), " ".repeat(w - filled), self.done, self.total, what);
+        eprint!(
+            "\r[{}{}] {:>4}/{:<4} {:<48}",
+            "#".repeat(filled),
+            " ".repeat(w - filled),
+            self.done,
+            self.total,
+            what
+        );
         let _ = std::io::stderr().flush();
         if self.done == self.total {
             eprintln!();

@@ -97,7 +97,10 @@ fn cmd_report(args: &[String]) -> Result<ExitCode, String> {
         cases: if quick { 150 } else { 1500 },
         pairs: if quick { 2000 } else { 10_000 },
         budget: Duration::from_millis(if quick { 40 } else { 300 }),
-        command: format!("cargo run --release -p tridist-reports -- report{}", if quick { " --quick" } else { "" }),
+        command: format!(
+            "cargo run --release -p tridist-reports -- report{}",
+            if quick { " --quick" } else { "" }
+        ),
         readme: if o.get("--out").is_none() { Some(root.join("README.md")) } else { None },
         out_dir,
     };
@@ -125,7 +128,8 @@ fn kernel_of(o: &Opts) -> Result<Kernel, String> {
 
 fn variant_of(o: &Opts) -> Result<Variant, String> {
     let v = o.get("--variant").unwrap_or("auto");
-    let var = Variant::parse(v).ok_or_else(|| format!("unknown variant {v:?} (scalar, soa, sse41, avx, avx2fma, auto)"))?;
+    let var = Variant::parse(v)
+        .ok_or_else(|| format!("unknown variant {v:?} (scalar, soa, sse41, avx, avx2fma, auto)"))?;
     if !var.available() {
         return Err(format!("variant {v} is not available on this CPU"));
     }
@@ -176,18 +180,21 @@ fn cmd_eval(args: &[String]) -> Result<ExitCode, String> {
     }
 }
 
-fn eval_as<T: Real>(text: &str, kernel: Kernel, variant: Variant, exact: bool, check: bool) -> Result<ExitCode, String> {
+fn eval_as<T: Real>(
+    text: &str,
+    kernel: Kernel,
+    variant: Variant,
+    exact: bool,
+    check: bool,
+) -> Result<ExitCode, String> {
     let (cases, errors) = read_cases::<T>(text);
     for e in &errors {
         eprintln!("tridist eval: {e}");
     }
     let cs: Vec<Case<T>> = cases.iter().map(|(_, c)| c.clone()).collect();
     let q = if kernel == Kernel::Brute { Query::TriTriBrute } else { Query::TriTri };
-    let out = if kernel == Kernel::Oracle {
-        None
-    } else {
-        Some(run(q, variant, &cs).map_err(|e| e.to_string())?)
-    };
+    let out =
+        if kernel == Kernel::Oracle { None } else { Some(run(q, variant, &cs).map_err(|e| e.to_string())?) };
     for (i, c) in cs.iter().enumerate() {
         let finite = c.a.iter().chain(c.b.iter()).flatten().all(|x| x.is_finite());
         let mut line = c.label.clone();
@@ -199,8 +206,15 @@ fn eval_as<T: Real>(text: &str, kernel: Kernel, variant: Variant, exact: bool, c
                 match tridist_oracle::sqdist_triangle_triangle(&a, &b) {
                     Ok(d) if exact => line.push_str(&format!(" {}/{}", d.numer(), d.denom())),
                     Ok(d) => {
-                        let r = if T::NAME == "f32" { tridist_oracle::round::to_f32(&d) as f64 } else { tridist_oracle::round::to_f64(&d) };
-                        line.push_str(&format!(" {}", if T::NAME == "f32" { format!("{:?}", r as f32) } else { format!("{r:?}") }));
+                        let r = if T::NAME == "f32" {
+                            tridist_oracle::round::to_f32(&d) as f64
+                        } else {
+                            tridist_oracle::round::to_f64(&d)
+                        };
+                        line.push_str(&format!(
+                            " {}",
+                            if T::NAME == "f32" { format!("{:?}", r as f32) } else { format!("{r:?}") }
+                        ));
                     }
                     Err(e) => line.push_str(&format!(" error: {e}")),
                 }
@@ -233,7 +247,11 @@ fn cmd_bench(args: &[String]) -> Result<ExitCode, String> {
     let variant = variant_of(&o)?;
     let reps: usize = match o.get("--reps") {
         None => 11,
-        Some(s) => s.parse().ok().filter(|&n| n > 0).ok_or_else(|| format!("--reps needs a positive integer, got {s:?}"))?,
+        Some(s) => s
+            .parse()
+            .ok()
+            .filter(|&n| n > 0)
+            .ok_or_else(|| format!("--reps needs a positive integer, got {s:?}"))?,
     };
     match o.get("--precision").unwrap_or("f64") {
         "f32" => bench_as::<f32>(&text, kernel, variant, reps),
@@ -273,7 +291,14 @@ fn bench_as<T: Real>(text: &str, kernel: Kernel, variant: Variant, reps: usize) 
     }
     times.sort_by(|x, y| x.total_cmp(y));
     let med = times[times.len() / 2];
-    println!("{} pairs, {} {} {}: {:.0} queries/s (median of {reps} passes after one warm-up)", a.len(), if kernel == Kernel::Brute { "brute" } else { "pqp" }, variant.name(), T::NAME, a.len() as f64 / med);
+    println!(
+        "{} pairs, {} {} {}: {:.0} queries/s (median of {reps} passes after one warm-up)",
+        a.len(),
+        if kernel == Kernel::Brute { "brute" } else { "pqp" },
+        variant.name(),
+        T::NAME,
+        a.len() as f64 / med
+    );
     Ok(ExitCode::SUCCESS)
 }
 
@@ -281,15 +306,21 @@ fn cmd_advise(args: &[String]) -> Result<ExitCode, String> {
     let o = Opts::parse(args, &[], &["--scale", "--tolerance", "--query", "--csv"])?;
     let num = |k: &str| -> Result<f64, String> {
         let s = o.get(k).ok_or_else(|| format!("{k} is required"))?;
-        s.parse::<f64>().ok().filter(|x| x.is_finite() && *x > 0.0).ok_or_else(|| format!("{k} needs a positive finite number, got {s:?}"))
+        s.parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite() && *x > 0.0)
+            .ok_or_else(|| format!("{k} needs a positive finite number, got {s:?}"))
     };
     let scale = num("--scale")?;
     let tol = num("--tolerance")?;
     let qn = o.get("--query").unwrap_or("tri_tri");
-    let query = Query::parse(qn).filter(|q| *q != Query::Intersect).ok_or_else(|| format!("unknown query {qn:?}"))?;
+    let query =
+        Query::parse(qn).filter(|q| *q != Query::Intersect).ok_or_else(|| format!("unknown query {qn:?}"))?;
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let csv_path = o.get("--csv").map(std::path::PathBuf::from).unwrap_or_else(|| root.join("reports/throughput.csv"));
-    let csv = std::fs::read_to_string(&csv_path).map_err(|e| format!("{}: {e} (run `tridist report` first)", csv_path.display()))?;
+    let csv_path =
+        o.get("--csv").map(std::path::PathBuf::from).unwrap_or_else(|| root.join("reports/throughput.csv"));
+    let csv = std::fs::read_to_string(&csv_path)
+        .map_err(|e| format!("{}: {e} (run `tridist report` first)", csv_path.display()))?;
     let tq = match query {
         Query::SegSeg => "seg_seg",
         Query::PointTri => "tri_point",
@@ -298,20 +329,38 @@ fn cmd_advise(args: &[String]) -> Result<ExitCode, String> {
     };
     let mut options = Vec::new();
     for v in Variant::ALL.iter().filter(|v| v.available()) {
-        for (p, u, max_s, min_d) in [("f32", 2f64.powi(-24), 5e18, 3.7e-23), ("f64", 2f64.powi(-53), 5e153, 1.5e-162)] {
+        for (p, u, max_s, min_d) in
+            [("f32", 2f64.powi(-24), 5e18, 3.7e-23), ("f64", 2f64.powi(-53), 5e153, 1.5e-162)]
+        {
             let e = Family::ALL.iter().map(|&f| bound(query, *v, p, f).max_excess).fold(0.0, f64::max);
             let err = e * u * scale;
-            let qps = csv.lines().filter_map(|l| {
-                let c: Vec<&str> = l.split(',').collect();
-                (c.len() == 5 && c[0] == "random unit cube" && c[1] == tq && c[2] == v.name() && c[3] == p).then(|| c[4].parse::<f64>().ok()).flatten()
-            }).next();
+            let qps = csv
+                .lines()
+                .filter_map(|l| {
+                    let c: Vec<&str> = l.split(',').collect();
+                    (c.len() == 5
+                        && c[0] == "random unit cube"
+                        && c[1] == tq
+                        && c[2] == v.name()
+                        && c[3] == p)
+                        .then(|| c[4].parse::<f64>().ok())
+                        .flatten()
+                })
+                .next();
             let fits = err <= tol && scale <= max_s && tol >= min_d;
             options.push((v.name(), p, e, err, qps, fits));
         }
     }
-    let best = options.iter().filter(|o| o.5 && o.4.is_some()).max_by(|a, b| a.4.unwrap_or(0.0).total_cmp(&b.4.unwrap_or(0.0)));
+    let best = options
+        .iter()
+        .filter(|o| o.5 && o.4.is_some())
+        .max_by(|a, b| a.4.unwrap_or(0.0).total_cmp(&b.4.unwrap_or(0.0)));
     for (v, p, e, err, qps, fits) in &options {
-        println!("{v:8} {p}: declared E <= {e} -> distance error <= {err:.3e} at S = {scale:e}; {} queries/s; {}", qps.map(|q| format!("{q:.0}")).unwrap_or_else(|| "?".into()), if *fits { "meets the tolerance" } else { "does not meet it" });
+        println!(
+            "{v:8} {p}: declared E <= {e} -> distance error <= {err:.3e} at S = {scale:e}; {} queries/s; {}",
+            qps.map(|q| format!("{q:.0}")).unwrap_or_else(|| "?".into()),
+            if *fits { "meets the tolerance" } else { "does not meet it" }
+        );
     }
     match best {
         Some((v, p, _, err, qps, _)) => {
@@ -324,4 +373,3 @@ fn cmd_advise(args: &[String]) -> Result<ExitCode, String> {
         }
     }
 }
-

@@ -61,15 +61,22 @@ fn accuracy(s: &Settings, prog: &mut Progress) -> Vec<Row> {
     rows
 }
 
-fn workloads(s: &Settings) -> Result<Vec<(String, Vec<(tridist::Triangle<f64>, tridist::Triangle<f64>)>)>, String> {
+fn workloads(
+    s: &Settings,
+) -> Result<Vec<(String, Vec<(tridist::Triangle<f64>, tridist::Triangle<f64>)>)>, String> {
     let load = |n: &str| mesh::carried(n).map_err(|e| e.to_string());
     let arm = load("armadillo.off")?;
     let fan = load("fandisk_large.off")?;
     let seed = tridist_scenes::seed();
     let mut w = Vec::new();
-    let rnd: Vec<_> = families::generate::<f64>(Family::Random, seed, s.pairs).into_iter().map(|c| (c.a, c.b)).collect();
+    let rnd: Vec<_> =
+        families::generate::<f64>(Family::Random, seed, s.pairs).into_iter().map(|c| (c.a, c.b)).collect();
     w.push(("random unit cube".to_string(), rnd));
-    for (name, a, b) in [("Fandisk vs Fandisk", &fan, &fan), ("Fandisk vs Armadillo", &fan, &arm), ("Armadillo vs Armadillo", &arm, &arm)] {
+    for (name, a, b) in [
+        ("Fandisk vs Fandisk", &fan, &fan),
+        ("Fandisk vs Armadillo", &fan, &arm),
+        ("Armadillo vs Armadillo", &arm, &arm),
+    ] {
         for g in [Grouping::Neighbouring, Grouping::Random] {
             w.push((format!("{name}, {} triangles", g.name()), protocol::pairs(a, b, g, s.pairs, seed)));
         }
@@ -80,7 +87,11 @@ fn workloads(s: &Settings) -> Result<Vec<(String, Vec<(tridist::Triangle<f64>, t
 fn throughput(s: &Settings, prog: &mut Progress) -> Result<Vec<TRow>, String> {
     let mut out = Vec::new();
     for (name, pairs) in workloads(s)? {
-        let queries: &[TQuery] = if name == "random unit cube" { &TQuery::ALL } else { &[TQuery::TriPoint, TQuery::SegSeg, TQuery::TriTri, TQuery::Within] };
+        let queries: &[TQuery] = if name == "random unit cube" {
+            &TQuery::ALL
+        } else {
+            &[TQuery::TriPoint, TQuery::SegSeg, TQuery::TriTri, TQuery::Within]
+        };
         let w32 = Workload::<f32>::new(&pairs, 0.02);
         let w64 = Workload::<f64>::new(&pairs, 0.02);
         for &q in queries {
@@ -99,7 +110,9 @@ fn throughput(s: &Settings, prog: &mut Progress) -> Result<Vec<TRow>, String> {
 }
 
 fn qps(t: &[TRow], workload: &str, q: TQuery, v: Variant, p: &str) -> Option<f64> {
-    t.iter().find(|r| r.workload == workload && r.query == q && r.variant == v && r.precision == p).and_then(|r| r.qps.clone().ok())
+    t.iter()
+        .find(|r| r.workload == workload && r.query == q && r.variant == v && r.precision == p)
+        .and_then(|r| r.qps.clone().ok())
 }
 
 fn best_simd() -> Variant {
@@ -136,7 +149,7 @@ fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), String> {
 pub fn run_report(s: &Settings) -> Result<(), String> {
     std::fs::create_dir_all(&s.out_dir).map_err(|e| format!("{}: {e}", s.out_dir.display()))?;
     let seed = tridist_scenes::seed();
-    let mut prog = Progress::new(Query::ALL.len() * Family::ALL.len() + 6 + 6 * 4 + 4);
+    let mut prog = Progress::new(Query::ALL.len() * Family::ALL.len() + 6 + 6 * 4 + 4 + 2);
     let acc = accuracy(s, &mut prog);
     let thr = throughput(s, &mut prog)?;
     // stability curves
@@ -144,11 +157,27 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
     let mut mag = Vec::new();
     let mut off = Vec::new();
     for v in [Variant::Scalar, simd] {
-        mag.push(Series { label: format!("{} f32", v.name()), points: binned(&per_case::<f32>(Query::TriTri, Family::Scale, v, s.cases * 2)), line: true });
-        mag.push(Series { label: format!("{} f64", v.name()), points: binned(&per_case::<f64>(Query::TriTri, Family::Scale, v, s.cases * 2)), line: true });
+        mag.push(Series {
+            label: format!("{} f32", v.name()),
+            points: binned(&per_case::<f32>(Query::TriTri, Family::Scale, v, s.cases * 2)),
+            line: true,
+        });
+        mag.push(Series {
+            label: format!("{} f64", v.name()),
+            points: binned(&per_case::<f64>(Query::TriTri, Family::Scale, v, s.cases * 2)),
+            line: true,
+        });
         prog.step("stability: magnitude");
-        off.push(Series { label: format!("{} f32", v.name()), points: binned(&per_case::<f32>(Query::TriTri, Family::Far, v, s.cases * 2)), line: true });
-        off.push(Series { label: format!("{} f64", v.name()), points: binned(&per_case::<f64>(Query::TriTri, Family::Far, v, s.cases * 2)), line: true });
+        off.push(Series {
+            label: format!("{} f32", v.name()),
+            points: binned(&per_case::<f32>(Query::TriTri, Family::Far, v, s.cases * 2)),
+            line: true,
+        });
+        off.push(Series {
+            label: format!("{} f64", v.name()),
+            points: binned(&per_case::<f64>(Query::TriTri, Family::Far, v, s.cases * 2)),
+            line: true,
+        });
         prog.step("stability: offset");
     }
 
@@ -163,12 +192,26 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
     for q in Query::ALL {
         for v in Variant::ALL {
             for p in ["f32", "f64"] {
-                let rs: Vec<&Row> = acc.iter().filter(|r| r.query == q && r.variant == v && r.precision == p).collect();
-                let Some(w) = rs.iter().max_by(|x, y| x.stats.max_excess.total_cmp(&y.stats.max_excess)) else { continue };
+                let rs: Vec<&Row> =
+                    acc.iter().filter(|r| r.query == q && r.variant == v && r.precision == p).collect();
+                let Some(w) = rs.iter().max_by(|x, y| x.stats.max_excess.total_cmp(&y.stats.max_excess))
+                else {
+                    continue;
+                };
                 let pe = rs.iter().map(|r| r.stats.max_point_error).fold(0.0, f64::max);
-                let mis: usize = rs.iter().map(|r| r.stats.contact_misses + r.stats.false_zeros + r.stats.nonfinite).sum();
+                let mis: usize =
+                    rs.iter().map(|r| r.stats.contact_misses + r.stats.false_zeros + r.stats.nonfinite).sum();
                 let b = bound(q, v, p, w.family);
-                let _ = writeln!(a, "| {} | {} | {p} | {} | {} | {} | {mis} | {} |", q.name(), v.name(), fmt(w.stats.max_excess), w.family.name(), fmt(pe), fmt(b.max_excess));
+                let _ = writeln!(
+                    a,
+                    "| {} | {} | {p} | {} | {} | {} | {mis} | {} |",
+                    q.name(),
+                    v.name(),
+                    fmt(w.stats.max_excess),
+                    w.family.name(),
+                    fmt(pe),
+                    fmt(b.max_excess)
+                );
             }
         }
     }
@@ -182,13 +225,27 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
                 if !reasons.contains(&b.reason) {
                     reasons.push(b.reason);
                 }
-                let within = st.max_excess <= b.max_excess && st.max_point_error <= b.max_point_error && st.contact_misses + st.false_zeros + st.nonfinite <= b.max_misclassified;
+                let within = st.max_excess <= b.max_excess
+                    && st.max_point_error <= b.max_point_error
+                    && st.contact_misses + st.false_zeros + st.nonfinite <= b.max_misclassified;
                 let _ = writeln!(
                     a,
                     "| {} | {} | {} | {} | {} | {} | {} | {} | {} / {} | {} | {} | {} / {}{} |",
-                    f.name(), r.variant.name(), r.precision, fmt(st.max_excess), fmt(st.p99), fmt(st.median),
-                    st.max_ulp.map(fmt).unwrap_or_else(|| "-".into()), st.contact_misses, st.false_zeros, st.strict_false_zeros,
-                    st.nonfinite, fmt(st.max_point_error), fmt(b.max_excess), fmt(b.max_point_error), if within { "" } else { " **EXCEEDED**" }
+                    f.name(),
+                    r.variant.name(),
+                    r.precision,
+                    fmt(st.max_excess),
+                    fmt(st.p99),
+                    fmt(st.median),
+                    st.max_ulp.map(fmt).unwrap_or_else(|| "-".into()),
+                    st.contact_misses,
+                    st.false_zeros,
+                    st.strict_false_zeros,
+                    st.nonfinite,
+                    fmt(st.max_point_error),
+                    fmt(b.max_excess),
+                    fmt(b.max_point_error),
+                    if within { "" } else { " **EXCEEDED**" }
                 );
             }
         }
@@ -205,16 +262,35 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
     let mut csv = String::from("workload,query,variant,precision,queries_per_second\n");
     for r in &thr {
         if let Ok(v) = r.qps {
-            let _ = writeln!(csv, "{},{},{},{},{v:.1}", r.workload, r.query.name(), r.variant.name(), r.precision);
+            let _ = writeln!(
+                csv,
+                "{},{},{},{},{v:.1}",
+                r.workload,
+                r.query.name(),
+                r.variant.name(),
+                r.precision
+            );
         }
     }
     let mq = |x: Option<f64>| x.map(|v| format!("{:.2}", v / 1e6)).unwrap_or_else(|| "-".into());
     for p in ["f32", "f64"] {
         let _ = writeln!(t, "## Paper protocol ({p})\n");
         for (wl, _) in workloads(s)?.iter().skip(1) {
-            let _ = writeln!(t, "### {wl}\n\n| layout | tri-point | seg-seg | tri-tri | within 0.02 |\n|---|---|---|---|---|");
-            for (label, v) in [("SIMD", best_simd()), ("SIMD layout", Variant::Soa), ("non-SIMD layout", Variant::Scalar)] {
-                let _ = writeln!(t, "| {label} | {} | {} | {} | {} |", mq(qps(&thr, wl, TQuery::TriPoint, v, p)), mq(qps(&thr, wl, TQuery::SegSeg, v, p)), mq(qps(&thr, wl, TQuery::TriTri, v, p)), mq(qps(&thr, wl, TQuery::Within, v, p)));
+            let _ = writeln!(
+                t,
+                "### {wl}\n\n| layout | tri-point | seg-seg | tri-tri | within 0.02 |\n|---|---|---|---|---|"
+            );
+            for (label, v) in
+                [("SIMD", best_simd()), ("SIMD layout", Variant::Soa), ("non-SIMD layout", Variant::Scalar)]
+            {
+                let _ = writeln!(
+                    t,
+                    "| {label} | {} | {} | {} | {} |",
+                    mq(qps(&thr, wl, TQuery::TriPoint, v, p)),
+                    mq(qps(&thr, wl, TQuery::SegSeg, v, p)),
+                    mq(qps(&thr, wl, TQuery::TriTri, v, p)),
+                    mq(qps(&thr, wl, TQuery::Within, v, p))
+                );
             }
             let _ = writeln!(t);
         }
@@ -231,7 +307,10 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
         (Some(x), Some(y)) if y > 0.0 => format!("{:.2}x", x / y),
         _ => "-".into(),
     };
-    let _ = writeln!(t, "\n## Ratios (random unit cube, tri-tri unless named)\n\n| comparison | f32 | f64 |\n|---|---|---|");
+    let _ = writeln!(
+        t,
+        "\n## Ratios (random unit cube, tri-tri unless named)\n\n| comparison | f32 | f64 |\n|---|---|---|"
+    );
     let comps: [(&str, TQuery, Variant, Variant); 6] = [
         ("AVX2+FMA vs scalar AoS", TQuery::TriTri, Variant::Avx2Fma, Variant::Scalar),
         ("AVX2+FMA vs SSE4.1", TQuery::TriTri, Variant::Avx2Fma, Variant::Sse41),
@@ -241,17 +320,51 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
         ("PQP vs brute force (AVX2+FMA)", TQuery::TriTri, Variant::Avx2Fma, Variant::Avx2Fma),
     ];
     for (label, q, x, y) in comps {
-        let row = |p| if label.starts_with("PQP") { ratio(qps(&thr, rw, q, x, p), qps(&thr, rw, TQuery::Brute, y, p)) } else { ratio(qps(&thr, rw, q, x, p), qps(&thr, rw, q, y, p)) };
+        let row = |p| {
+            if label.starts_with("PQP") {
+                ratio(qps(&thr, rw, q, x, p), qps(&thr, rw, TQuery::Brute, y, p))
+            } else {
+                ratio(qps(&thr, rw, q, x, p), qps(&thr, rw, q, y, p))
+            }
+        };
         let _ = writeln!(t, "| {label} | {} | {} |", row("f32"), row("f64"));
     }
     let wf = "Armadillo vs Armadillo, random triangles";
-    let _ = writeln!(t, "| within-margin 0.02 vs full query, mostly far pairs ({wf}, {}) | {} | {} |", best_simd().name(), ratio(qps(&thr, wf, TQuery::Within, best_simd(), "f32"), qps(&thr, wf, TQuery::TriTri, best_simd(), "f32")), ratio(qps(&thr, wf, TQuery::Within, best_simd(), "f64"), qps(&thr, wf, TQuery::TriTri, best_simd(), "f64")));
-    let _ = writeln!(t, "| f32 vs f64 ({}, tri-tri) | {} | |", best_simd().name(), ratio(qps(&thr, rw, TQuery::TriTri, best_simd(), "f32"), qps(&thr, rw, TQuery::TriTri, best_simd(), "f64")));
+    let _ = writeln!(
+        t,
+        "| within-margin 0.02 vs full query, mostly far pairs ({wf}, {}) | {} | {} |",
+        best_simd().name(),
+        ratio(
+            qps(&thr, wf, TQuery::Within, best_simd(), "f32"),
+            qps(&thr, wf, TQuery::TriTri, best_simd(), "f32")
+        ),
+        ratio(
+            qps(&thr, wf, TQuery::Within, best_simd(), "f64"),
+            qps(&thr, wf, TQuery::TriTri, best_simd(), "f64")
+        )
+    );
+    let _ = writeln!(
+        t,
+        "| f32 vs f64 ({}, tri-tri) | {} | |",
+        best_simd().name(),
+        ratio(
+            qps(&thr, rw, TQuery::TriTri, best_simd(), "f32"),
+            qps(&thr, rw, TQuery::TriTri, best_simd(), "f64")
+        )
+    );
     let failed: Vec<&TRow> = thr.iter().filter(|r| r.qps.is_err()).collect();
     if !failed.is_empty() {
         let _ = writeln!(t, "\n## Result checks that failed\n");
         for r in &failed {
-            let _ = writeln!(t, "- {} {} {} {}: {}", r.workload, r.query.name(), r.variant.name(), r.precision, r.qps.clone().err().unwrap_or_default());
+            let _ = writeln!(
+                t,
+                "- {} {} {} {}: {}",
+                r.workload,
+                r.query.name(),
+                r.variant.name(),
+                r.precision,
+                r.qps.clone().err().unwrap_or_default()
+            );
         }
     }
     let _ = writeln!(t, "\nMachine-readable: [throughput.csv](throughput.csv) (read by `tridist advise`). The Stanford Armadillo is courtesy of the Stanford Computer Graphics Laboratory.");
@@ -267,29 +380,73 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
                 .filter_map(|&v| {
                     let tq = if q == Query::TriTri { TQuery::TriTri } else { TQuery::Brute };
                     let x = qps(&thr, rw, tq, v, p)? / 1e6;
-                    let y = acc.iter().filter(|r| r.query == q && r.variant == v && r.precision == p).map(|r| r.stats.max_excess).fold(0.0, f64::max);
+                    let y = acc
+                        .iter()
+                        .filter(|r| r.query == q && r.variant == v && r.precision == p)
+                        .map(|r| r.stats.max_excess)
+                        .fold(0.0, f64::max);
                     Some((x, y.max(1e-3)))
                 })
                 .collect();
             series.push(Series { label: format!("{qn} {p}"), points: pts, line: false });
         }
     }
-    let trade = Plot { title: "Triangle-triangle: throughput vs worst-family error".into(), xlabel: "million queries/s (random unit-cube pairs, 1 thread)".into(), ylabel: "max excess E over all families".into(), xlog: true, ylog: true, series, hline: Some((8.0, "target E = 8".into())) };
+    let trade = Plot {
+        title: "Triangle-triangle: throughput vs worst-family error".into(),
+        xlabel: "million queries/s (random unit-cube pairs, 1 thread)".into(),
+        ylabel: "max excess E over all families".into(),
+        xlog: true,
+        ylog: true,
+        series,
+        hline: Some((8.0, "target E = 8".into())),
+    };
     write_file(&s.out_dir, "tradeoff.svg", &trade.render())?;
-    let magp = Plot { title: "Stability vs magnitude (tri-tri, scale family)".into(), xlabel: "largest coordinate S".into(), ylabel: "max excess E per decade".into(), xlog: true, ylog: true, series: mag, hline: Some((8.0, "target".into())) };
+    let magp = Plot {
+        title: "Stability vs magnitude (tri-tri, scale family)".into(),
+        xlabel: "largest coordinate S".into(),
+        ylabel: "max excess E per decade".into(),
+        xlog: true,
+        ylog: true,
+        series: mag,
+        hline: Some((8.0, "target".into())),
+    };
     write_file(&s.out_dir, "magnitude.svg", &magp.render())?;
-    let offp = Plot { title: "Stability vs offset from origin (tri-tri, far family)".into(), xlabel: "offset (largest coordinate S)".into(), ylabel: "max excess E per decade".into(), xlog: true, ylog: true, series: off, hline: Some((8.0, "target".into())) };
+    let offp = Plot {
+        title: "Stability vs offset from origin (tri-tri, far family)".into(),
+        xlabel: "offset (largest coordinate S)".into(),
+        ylabel: "max excess E per decade".into(),
+        xlog: true,
+        ylog: true,
+        series: off,
+        hline: Some((8.0, "target".into())),
+    };
     write_file(&s.out_dir, "offset.svg", &offp.render())?;
     let mut tr = header("Speed for accuracy: what each variant costs and what it buys", &s.command, seed);
     let _ = writeln!(tr, "Each point is one kernel variant and precision: its triangle-triangle throughput on random unit-cube pairs against its worst excess E over every input family. Lower right is better; anything under the dashed line meets the E <= 8 target on every family.\n\n![throughput vs error](tradeoff.svg)\n");
     let _ = writeln!(tr, "## Per family (max excess E, triangle-triangle PQP)\n\n| variant | prec | Mq/s | {} |\n|---|---|---|{}", Family::ALL.iter().map(|f| f.name()).collect::<Vec<_>>().join(" | "), "---|".repeat(Family::ALL.len()));
     for v in Variant::ALL {
         for p in ["f32", "f64"] {
-            let cells: Vec<String> = Family::ALL.iter().map(|&f| acc.iter().find(|r| r.query == Query::TriTri && r.variant == v && r.precision == p && r.family == f).map(|r| fmt(r.stats.max_excess)).unwrap_or_else(|| "-".into())).collect();
+            let cells: Vec<String> = Family::ALL
+                .iter()
+                .map(|&f| {
+                    acc.iter()
+                        .find(|r| {
+                            r.query == Query::TriTri && r.variant == v && r.precision == p && r.family == f
+                        })
+                        .map(|r| fmt(r.stats.max_excess))
+                        .unwrap_or_else(|| "-".into())
+                })
+                .collect();
             if cells.iter().all(|c| c == "-") {
                 continue;
             }
-            let _ = writeln!(tr, "| {} | {p} | {} | {} |", v.name(), mq(qps(&thr, rw, TQuery::TriTri, v, p)), cells.join(" | "));
+            let _ = writeln!(
+                tr,
+                "| {} | {p} | {} | {} |",
+                v.name(),
+                mq(qps(&thr, rw, TQuery::TriTri, v, p)),
+                cells.join(" | ")
+            );
         }
     }
     let _ = writeln!(tr, "\n## Stability at the extremes\n\nEvery query scales its input by a power of two before computing, so the error relative to the magnitude stays flat from tiny to huge coordinates and far from the origin.\n\n![error vs magnitude](magnitude.svg)\n\n![error vs offset](offset.svg)\n\n## Penalty method\n\nNot implemented yet (issue: penalty-method triangle distance); its iterations-vs-error curve will appear here.");
@@ -312,7 +469,8 @@ fn update_readme(path: &Path, acc: &[Row], thr: &[TRow]) -> Result<(), String> {
     let (Some(i), Some(j)) = (text.find(b), text.find(e)) else { return Ok(()) };
     let rw = "random unit cube";
     let maxe = acc.iter().map(|r| r.stats.max_excess).fold(0.0, f64::max);
-    let mis: usize = acc.iter().map(|r| r.stats.contact_misses + r.stats.false_zeros + r.stats.nonfinite).sum();
+    let mis: usize =
+        acc.iter().map(|r| r.stats.contact_misses + r.stats.false_zeros + r.stats.nonfinite).sum();
     let simd = best_simd();
     let q = |v, p| qps(thr, rw, TQuery::TriTri, v, p);
     let r = |x: Option<f64>, y: Option<f64>| match (x, y) {
@@ -320,7 +478,11 @@ fn update_readme(path: &Path, acc: &[Row], thr: &[TRow]) -> Result<(), String> {
         _ => "-".into(),
     };
     let mut s = String::new();
-    let _ = writeln!(s, "{b}\n_Generated by `tridist report`; numbers from the last run on {}._\n", crate::common::machine());
+    let _ = writeln!(
+        s,
+        "{b}\n_Generated by `tridist report`; numbers from the last run on {}._\n",
+        crate::common::machine()
+    );
     let _ = writeln!(s, "- Worst excess error over every query, variant, precision and input family: **E = {}** (target 8); contact misses + false zeros + non-finite outputs: **{mis}**.", fmt(maxe));
     let _ = writeln!(s, "- Triangle-triangle on random unit-cube pairs, f32: {} {} M/s vs scalar {} M/s (**{}**); f64: {} M/s vs {} M/s (**{}**).", simd.name(), q(simd, "f32").map(|v| format!("{:.1}", v / 1e6)).unwrap_or_default(), q(Variant::Scalar, "f32").map(|v| format!("{:.2}", v / 1e6)).unwrap_or_default(), r(q(simd, "f32"), q(Variant::Scalar, "f32")), q(simd, "f64").map(|v| format!("{:.1}", v / 1e6)).unwrap_or_default(), q(Variant::Scalar, "f64").map(|v| format!("{:.2}", v / 1e6)).unwrap_or_default(), r(q(simd, "f64"), q(Variant::Scalar, "f64")));
     let _ = writeln!(s, "\n![throughput vs error](reports/tradeoff.svg)\n\nFull tables: [reports/ACCURACY.md](reports/ACCURACY.md), [reports/THROUGHPUT.md](reports/THROUGHPUT.md), [reports/TRADEOFF.md](reports/TRADEOFF.md).");

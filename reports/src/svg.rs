@@ -31,8 +31,10 @@ pub struct Plot {
     pub hline: Option<(f64, String)>,
 }
 
-const COLORS: [&str; 10] =
-    ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
+const COLORS: [&str; 10] = [
+    "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22",
+    "#17becf",
+];
 
 fn esc(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
@@ -57,8 +59,10 @@ impl Plot {
         let fold = |f: fn(f64, f64) -> f64, init: f64, sel: fn(&(f64, f64)) -> f64| {
             pts.iter().map(sel).filter(|v| v.is_finite()).fold(init, f)
         };
-        let (mut x0, mut x1) = (fold(f64::min, f64::INFINITY, |p| p.0), fold(f64::max, f64::NEG_INFINITY, |p| p.0));
-        let (mut y0, mut y1) = (fold(f64::min, f64::INFINITY, |p| p.1), fold(f64::max, f64::NEG_INFINITY, |p| p.1));
+        let (mut x0, mut x1) =
+            (fold(f64::min, f64::INFINITY, |p| p.0), fold(f64::max, f64::NEG_INFINITY, |p| p.0));
+        let (mut y0, mut y1) =
+            (fold(f64::min, f64::INFINITY, |p| p.1), fold(f64::max, f64::NEG_INFINITY, |p| p.1));
         if !x0.is_finite() {
             (x0, x1) = (0.0, 1.0);
         }
@@ -94,7 +98,11 @@ impl Plot {
             } else {
                 let span = b - a;
                 let mag = 10f64.powf(span.log10().floor());
-                let step = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * mag).find(|st| span / st <= 8.0).unwrap_or(mag * 10.0);
+                let step = [1.0, 2.0, 5.0, 10.0]
+                    .iter()
+                    .map(|m| m * mag)
+                    .find(|st| span / st <= 8.0)
+                    .unwrap_or(mag * 10.0);
                 let mut v = (a / step).ceil() * step;
                 let mut out = Vec::new();
                 while v <= b {
@@ -161,7 +169,11 @@ impl Plot {
                 .collect();
             if se.line && p.len() > 1 {
                 let d: Vec<String> = p.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
-                let _ = write!(s, r#"<polyline fill="none" stroke="{c}" stroke-width="1.5" points="{}"/>"#, d.join(" "));
+                let _ = write!(
+                    s,
+                    r#"<polyline fill="none" stroke="{c}" stroke-width="1.5" points="{}"/>"#,
+                    d.join(" ")
+                );
             }
             for (x, y) in &p {
                 let _ = write!(s, r#"<circle cx="{x:.1}" cy="{y:.1}" r="3.5" fill="{c}"/>"#);

@@ -96,7 +96,14 @@ impl<T: Real> Workload<T> {
     }
 
     /// Runs one pass of `q` on `e` (AoS inputs when `aos`), writing into `out`.
-    pub fn run(&self, q: TQuery, e: Engine, aos: bool, out: &mut [T], flags: &mut [Option<bool>]) -> Result<(), tridist::Error> {
+    pub fn run(
+        &self,
+        q: TQuery,
+        e: Engine,
+        aos: bool,
+        out: &mut [T],
+        flags: &mut [Option<bool>],
+    ) -> Result<(), tridist::Error> {
         match (q, aos) {
             (TQuery::TriPoint, true) => e.sqdist_point_triangle(&self.pa, &self.pb, out),
             (TQuery::TriPoint, false) => e.sqdist_point_triangle(&self.bpa, &self.bpb, out),
@@ -109,7 +116,9 @@ impl<T: Real> Workload<T> {
             (TQuery::Intersect, true) => e.intersect_triangle_triangle(&self.ta, &self.tb, flags),
             (TQuery::Intersect, false) => e.intersect_triangle_triangle(&self.bta, &self.btb, flags),
             (TQuery::Within, true) => e.within_margin_triangle_triangle(&self.ta, &self.tb, self.margin, out),
-            (TQuery::Within, false) => e.within_margin_triangle_triangle(&self.bta, &self.btb, self.margin, out),
+            (TQuery::Within, false) => {
+                e.within_margin_triangle_triangle(&self.bta, &self.btb, self.margin, out)
+            }
         }
     }
 }
@@ -142,7 +151,12 @@ fn fingerprint<T: Real>(q: TQuery, out: &[T], flags: &[Option<bool>]) -> (usize,
 
 /// Measures queries/s of `q` on `variant`, or `None` when the variant is unavailable.
 /// `Err` when its results disagree with the scalar AoS reference beyond rounding.
-pub fn measure<T: Real>(w: &Workload<T>, q: TQuery, variant: Variant, budget: Duration) -> Option<Result<f64, String>> {
+pub fn measure<T: Real>(
+    w: &Workload<T>,
+    q: TQuery,
+    variant: Variant,
+    budget: Duration,
+) -> Option<Result<f64, String>> {
     let e = Engine::new(variant.isa()).ok()?;
     let n = w.len(q);
     let mut out = vec![T::ZERO; n];

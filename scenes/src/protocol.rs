@@ -46,7 +46,13 @@ pub fn normalised(m: &Mesh) -> Vec<Triangle<f64>> {
 
 /// `n` triangle pairs (moving, static) following the protocol: 10 steps, 4 moving triangles per
 /// static triangle. Fixed seed, so every run measures the same work.
-pub fn pairs(fixed: &Mesh, moving: &Mesh, grouping: Grouping, n: usize, seed: u64) -> Vec<(Triangle<f64>, Triangle<f64>)> {
+pub fn pairs(
+    fixed: &Mesh,
+    moving: &Mesh,
+    grouping: Grouping,
+    n: usize,
+    seed: u64,
+) -> Vec<(Triangle<f64>, Triangle<f64>)> {
     let st = normalised(fixed);
     let mv = normalised(moving);
     // triangles around each vertex of the moving mesh
@@ -66,7 +72,8 @@ pub fn pairs(fixed: &Mesh, moving: &Mesh, grouping: Grouping, n: usize, seed: u6
         let angle = f * std::f64::consts::TAU;
         let (sn, cs) = angle.sin_cos();
         let shift = -3.0 + 6.0 * f; // from one side (no contact) through to the other
-        let place = |t: Triangle<f64>| t.map(|p| [cs * p[0] - sn * p[1] + shift, sn * p[0] + cs * p[1], p[2]]);
+        let place =
+            |t: Triangle<f64>| t.map(|p| [cs * p[0] - sn * p[1] + shift, sn * p[0] + cs * p[1], p[2]]);
         while out.len() < (step + 1) * per_step && out.len() < n {
             let s = st[r.below(st.len())];
             let group: Vec<usize> = match grouping {
