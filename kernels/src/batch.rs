@@ -73,7 +73,7 @@ impl<T: Real, const K: usize> Batch<T, K> {
     }
 
     pub(crate) fn src(&self) -> crate::driver::Src<'_, T> {
-        crate::driver::Src::Soa { data: &self.data, cap: self.cap, k: K }
+        crate::driver::Src::Soa { data: &self.data, cap: self.cap, base: 0, k: K }
     }
 }
 

@@ -23,8 +23,8 @@ pub enum QueryKind {
 #[doc(hidden)]
 #[derive(Clone, Copy)]
 pub enum Src<'a, T> {
-    /// Padded SoA columns: coordinate `j` (0..3K) of primitive `i` is `data[j * cap + i]`.
-    Soa { data: &'a [T], cap: usize, k: usize },
+    /// Padded SoA columns: coordinate `j` (0..3K) of primitive `i` is `data[j * cap + base + i]`.
+    Soa { data: &'a [T], cap: usize, base: usize, k: usize },
     /// AoS: primitive `i` is `flat[i*3K .. (i+1)*3K]`.
     Aos { flat: &'a [T], len: usize, k: usize },
     /// One primitive against every primitive of the other side.
@@ -51,7 +51,15 @@ pub struct Job<'a, T> {
     pub q: Option<&'a mut [[T; 3]]>,
 }
 
-impl<T: Real> Src<'_, T> {
+impl<'a, T: Real> Src<'a, T> {
+    /// The same source starting at primitive `start` (for splitting a batch across threads).
+    pub(crate) fn from(self, start: usize) -> Src<'a, T> {
+        match self {
+            Src::Soa { data, cap, base, k } => Src::Soa { data, cap, base: base + start, k },
+            Src::Aos { flat, len, k } => Src::Aos { flat: &flat[start * 3 * k..], len: len - start, k },
+            one @ Src::One { .. } => one,
+        }
+    }
     #[inline(always)]
     fn k(&self) -> usize {
         match *self {
@@ -61,7 +69,7 @@ impl<T: Real> Src<'_, T> {
     #[inline(always)]
     fn coord<L: Lanes<S = T>>(&self, i: usize, j: usize) -> L {
         match *self {
-            Src::Soa { data, cap, .. } => L::load(&data[j * cap + i..]),
+            Src::Soa { data, cap, base, .. } => L::load(&data[j * cap + base + i..]),
             Src::One { flat, .. } => L::splat(flat[j]),
             Src::Aos { flat, len, k } => {
                 if L::N == 1 {

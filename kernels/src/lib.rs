@@ -194,6 +194,7 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Engine {
     isa: Isa,
+    threads: usize,
 }
 
 /// The environment variable that pins [`Engine::auto`] to one variant (`scalar`, `sse41`,
@@ -204,7 +205,7 @@ impl Engine {
     /// An engine for `isa`, or [`Error::Unavailable`] when this CPU lacks it.
     pub fn new(isa: Isa) -> Result<Engine, Error> {
         if isa.is_available() {
-            Ok(Engine { isa })
+            Ok(Engine { isa, threads: 1 })
         } else {
             Err(Error::Unavailable(isa))
         }
@@ -212,7 +213,7 @@ impl Engine {
 
     /// The scalar engine (always available).
     pub fn scalar() -> Engine {
-        Engine { isa: Isa::Scalar }
+        Engine { isa: Isa::Scalar, threads: 1 }
     }
 
     /// The best available variant, or the one named by `TRIDIST_ISA` when that is set.
@@ -225,19 +226,37 @@ impl Engine {
                 let isa = Isa::parse(&s).ok_or(Error::UnknownIsa(s))?;
                 Engine::new(isa)
             }
-            _ => Ok(Engine { isa: Isa::best() }),
+            _ => Ok(Engine { isa: Isa::best(), threads: 1 }),
         }
     }
 
     /// [`Engine::from_env`], falling back to the best available variant when `TRIDIST_ISA` is
     /// unusable. Detection runs once and is cached.
     pub fn auto() -> Engine {
-        Engine::from_env().unwrap_or(Engine { isa: Isa::best() })
+        Engine::from_env().unwrap_or(Engine { isa: Isa::best(), threads: 1 })
     }
 
     /// The variant this engine runs.
     pub fn isa(&self) -> Isa {
         self.isa
+    }
+
+    /// The same engine splitting each batch across `n` threads (std scoped threads, chunks of
+    /// whole vectors; batches below 1024 pairs stay on the calling thread). `n = 0` means the
+    /// number of available cores. Results are identical to the single-threaded ones.
+    ///
+    /// # Example
+    /// ```
+    /// use tridist::Engine;
+    /// let a = vec![[[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]; 5000];
+    /// let b = vec![[[0.0f64, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]; 5000];
+    /// let mut out = vec![0.0; 5000];
+    /// Engine::auto().threads(2).sqdist_triangle_triangle(&a, &b, &mut out).unwrap();
+    /// assert!(out.iter().all(|&d| d == 1.0));
+    /// ```
+    pub fn threads(self, n: usize) -> Engine {
+        let n = if n == 0 { std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1) } else { n };
+        Engine { threads: n.max(1), ..self }
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -276,8 +295,40 @@ impl Engine {
         if let Some(q) = &q {
             check("out_q", q.len())?;
         }
-        let mut job = Job { query, a: a.src(), b: b.src(), n, param, d, p, q };
-        T::__run(self.isa, &mut job);
+        let (sa, sb) = (a.src(), b.src());
+        if self.threads <= 1 || n < 1024 {
+            let mut job = Job { query, a: sa, b: sb, n, param, d, p, q };
+            T::__run(self.isa, &mut job);
+            return Ok(());
+        }
+        // Chunks of whole 8-lane groups, one per thread; outputs split alike.
+        let chunk = n.div_ceil(self.threads).div_ceil(8) * 8;
+        let isa = self.isa;
+        let mut d = d;
+        let (mut p, mut q) = (p, q);
+        std::thread::scope(|scope| {
+            let mut start = 0;
+            while start < n {
+                let len = chunk.min(n - start);
+                let (d_now, d_rest) = match d {
+                    DOut::Real(s) => {
+                        let (x, y) = s.split_at_mut(len);
+                        (DOut::Real(x), DOut::Real(y))
+                    }
+                    DOut::Flag(s) => {
+                        let (x, y) = s.split_at_mut(len);
+                        (DOut::Flag(x), DOut::Flag(y))
+                    }
+                };
+                d = d_rest;
+                let (p_now, p_rest) = split_opt(p, len);
+                let (q_now, q_rest) = split_opt(q, len);
+                (p, q) = (p_rest, q_rest);
+                let mut job = Job { query, a: sa.from(start), b: sb.from(start), n: len, param, d: d_now, p: p_now, q: q_now };
+                scope.spawn(move || T::__run(isa, &mut job));
+                start += len;
+            }
+        });
         Ok(())
     }
 
@@ -430,6 +481,18 @@ impl Engine {
         out_q: &mut [Point<T>],
     ) -> Result<(), Error> {
         self.exec(QueryKind::PointTri, a.into(), b.into(), T::ZERO, DOut::Real(out), None, Some(out_q))
+    }
+}
+
+type PtsMut<'a, T> = Option<&'a mut [Point<T>]>;
+
+fn split_opt<T>(s: PtsMut<'_, T>, at: usize) -> (PtsMut<'_, T>, PtsMut<'_, T>) {
+    match s {
+        Some(s) => {
+            let (x, y) = s.split_at_mut(at);
+            (Some(x), Some(y))
+        }
+        None => (None, None),
     }
 }
 

@@ -270,3 +270,27 @@ fn overflowing_squares_give_infinity_with_finite_points() {
         assert_eq!((q[0][2] - p[0][2]), 3e30);
     }
 }
+
+#[test]
+fn threaded_batches_give_the_same_bits() {
+    let ps = pairs::<f32>(3001);
+    let a: Vec<_> = ps.iter().map(|x| x.0).collect();
+    let b: Vec<_> = ps.iter().map(|x| x.1).collect();
+    let (ba, bb) = (TriangleBatch::from_slice(&a), TriangleBatch::from_slice(&b));
+    for e in engines() {
+        let (mut one, mut two) = (vec![0.0f32; ps.len()], vec![0.0f32; ps.len()]);
+        let (mut p1, mut p2) = (vec![[0.0f32; 3]; ps.len()], vec![[0.0f32; 3]; ps.len()]);
+        let (mut q1, mut q2) = (vec![[0.0f32; 3]; ps.len()], vec![[0.0f32; 3]; ps.len()]);
+        e.closest_points_triangle_triangle(&ba, &bb, &mut one, &mut p1, &mut q1).unwrap();
+        e.threads(3).closest_points_triangle_triangle(&ba, &bb, &mut two, &mut p2, &mut q2).unwrap();
+        assert_eq!(one, two);
+        assert_eq!((p1, q1), (p2, q2));
+        let mut aos = vec![0.0f32; ps.len()];
+        e.threads(2).sqdist_triangle_triangle(&a, &b, &mut aos).unwrap();
+        assert_eq!(one, aos);
+        let (mut f1, mut f2) = (vec![None; ps.len()], vec![None; ps.len()]);
+        e.intersect_triangle_triangle(&ba, &bb, &mut f1).unwrap();
+        e.threads(0).intersect_triangle_triangle(&ba, &bb, &mut f2).unwrap();
+        assert_eq!(f1, f2);
+    }
+}
