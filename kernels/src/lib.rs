@@ -324,7 +324,16 @@ impl Engine {
                 let (p_now, p_rest) = split_opt(p, len);
                 let (q_now, q_rest) = split_opt(q, len);
                 (p, q) = (p_rest, q_rest);
-                let mut job = Job { query, a: sa.from(start), b: sb.from(start), n: len, param, d: d_now, p: p_now, q: q_now };
+                let mut job = Job {
+                    query,
+                    a: sa.from(start),
+                    b: sb.from(start),
+                    n: len,
+                    param,
+                    d: d_now,
+                    p: p_now,
+                    q: q_now,
+                };
                 scope.spawn(move || T::__run(isa, &mut job));
                 start += len;
             }

@@ -4,7 +4,6 @@
 mod common;
 mod report;
 mod svg;
-mod throughput;
 
 use std::io::Read;
 use std::process::ExitCode;

@@ -15,7 +15,7 @@ use tridist_scenes::{families, Family};
 
 use crate::common::{fmt, header, Progress};
 use crate::svg::{Plot, Series};
-use crate::throughput::{measure, TQuery, Workload};
+use tridist_scenes::workload::{measure, TQuery, Workload};
 
 /// Report settings.
 pub struct Settings {

@@ -14,6 +14,7 @@ pub mod families;
 pub mod mesh;
 pub mod protocol;
 pub mod rng;
+pub mod workload;
 
 pub use families::{Case, Family};
 

@@ -1,12 +1,12 @@
-//! Throughput measurement: every query x variant x precision on the paper's protocol pairs and
-//! on random unit-cube pairs. Timing: one warm-up pass, then the median of repeated passes.
-//! Each measurement first checks its results against the scalar AoS variant (a fast wrong kernel
-//! cannot win).
+//! Throughput workloads shared by the report and the criterion benches: every query x variant x
+//! precision on prepared pairs in both layouts. Timing: one warm-up pass, then the median of
+//! repeated passes; each measurement first checks its results against the scalar AoS variant (a
+//! fast wrong kernel cannot win).
 
 use std::time::{Duration, Instant};
 
+use crate::eval::Variant;
 use tridist::{Engine, PointBatch, Real, SegmentBatch, Triangle, TriangleBatch};
-use tridist_scenes::eval::Variant;
 
 /// Queries whose throughput is measured.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -67,8 +67,8 @@ impl<T: Real> Workload<T> {
         let p: Vec<(Triangle<T>, Triangle<T>)> = pairs.iter().map(|(a, b)| (c(a), c(b))).collect();
         let ta: Vec<_> = p.iter().map(|x| x.0).collect();
         let tb: Vec<_> = p.iter().map(|x| x.1).collect();
-        let (sa, sb) = tridist_scenes::protocol::edge_pairs(&p);
-        let (pa, pb) = tridist_scenes::protocol::vertex_pairs(&p);
+        let (sa, sb) = crate::protocol::edge_pairs(&p);
+        let (pa, pb) = crate::protocol::vertex_pairs(&p);
         Workload {
             bta: TriangleBatch::from_slice(&ta),
             btb: TriangleBatch::from_slice(&tb),
@@ -139,7 +139,7 @@ pub fn median_time(mut f: impl FnMut(), budget: Duration) -> f64 {
 }
 
 /// A result fingerprint: (pairs reported at distance 0 or overlapping, sum of distances).
-fn fingerprint<T: Real>(q: TQuery, out: &[T], flags: &[Option<bool>]) -> (usize, f64) {
+pub fn fingerprint<T: Real>(q: TQuery, out: &[T], flags: &[Option<bool>]) -> (usize, f64) {
     if q == TQuery::Intersect {
         (flags.iter().filter(|f| **f == Some(true)).count(), 0.0)
     } else {
@@ -149,31 +149,43 @@ fn fingerprint<T: Real>(q: TQuery, out: &[T], flags: &[Option<bool>]) -> (usize,
     }
 }
 
-/// Measures queries/s of `q` on `variant`, or `None` when the variant is unavailable.
-/// `Err` when its results disagree with the scalar AoS reference beyond rounding.
-pub fn measure<T: Real>(
-    w: &Workload<T>,
-    q: TQuery,
-    variant: Variant,
-    budget: Duration,
-) -> Option<Result<f64, String>> {
+/// Runs `q` on `variant` once and compares its results with the scalar AoS variant: `None` when
+/// the variant is unavailable, `Err` when they disagree beyond rounding.
+pub fn check<T: Real>(w: &Workload<T>, q: TQuery, variant: Variant) -> Option<Result<(), String>> {
     let e = Engine::new(variant.isa()).ok()?;
     let n = w.len(q);
-    let mut out = vec![T::ZERO; n];
-    let mut flags = vec![None; n];
-    let mut ref_out = vec![T::ZERO; n];
-    let mut ref_flags = vec![None; n];
-    let aos = variant == Variant::Scalar;
-    if let Err(err) = w.run(q, e, aos, &mut out, &mut flags) {
+    let (mut out, mut flags) = (vec![T::ZERO; n], vec![None; n]);
+    let (mut ref_out, mut ref_flags) = (vec![T::ZERO; n], vec![None; n]);
+    if let Err(err) = w.run(q, e, variant == Variant::Scalar, &mut out, &mut flags) {
         return Some(Err(err.to_string()));
     }
-    let _ = w.run(q, Engine::scalar(), true, &mut ref_out, &mut ref_flags);
+    if let Err(err) = w.run(q, Engine::scalar(), true, &mut ref_out, &mut ref_flags) {
+        return Some(Err(err.to_string()));
+    }
     let (z, s) = fingerprint(q, &out, &flags);
     let (rz, rs) = fingerprint(q, &ref_out, &ref_flags);
     let tol_zero = n / 100 + 2; // touching decisions may flip within rounding
     if z.abs_diff(rz) > tol_zero || (s - rs).abs() > 1e-3 * rs.abs().max(1e-300) {
         return Some(Err(format!("result check failed: zeros {z} vs {rz}, sum {s} vs {rs}")));
     }
+    Some(Ok(()))
+}
+
+/// Measures queries/s of `q` on `variant` after [`check`]: `None` when the variant is
+/// unavailable, `Err` when the check fails.
+pub fn measure<T: Real>(
+    w: &Workload<T>,
+    q: TQuery,
+    variant: Variant,
+    budget: Duration,
+) -> Option<Result<f64, String>> {
+    if let Err(e) = check(w, q, variant)? {
+        return Some(Err(e));
+    }
+    let e = Engine::new(variant.isa()).ok()?;
+    let n = w.len(q);
+    let (mut out, mut flags) = (vec![T::ZERO; n], vec![None; n]);
+    let aos = variant == Variant::Scalar;
     let t = median_time(
         || {
             let _ = w.run(q, e, aos, &mut out, &mut flags);

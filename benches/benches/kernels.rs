@@ -1,0 +1,92 @@
+//! Every query x variant x precision, in queries per second (`Throughput::Elements`), on
+//! random unit-cube pairs and on the paper's protocol (Armadillo vs Armadillo, CAD vs CAD,
+//! CAD vs Armadillo; four triangles sharing a vertex, or four random ones, against one), plus
+//! the threaded batch path. Inputs come from the shared generators with fixed seeds; every
+//! benchmark first checks its results against the scalar AoS variant.
+//!
+//! `cargo bench -p tridist-benches` (all), `cargo bench -p tridist-benches -- tri_tri/random`
+//! (a subset); `cargo test -p tridist-benches --benches` runs each once as a smoke test.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use tridist::{Engine, Real};
+use tridist_scenes::eval::Variant;
+use tridist_scenes::protocol::{self, Grouping};
+use tridist_scenes::workload::{check, TQuery, Workload};
+use tridist_scenes::{families, mesh, Family};
+
+type Pairs = Vec<(tridist::Triangle<f64>, tridist::Triangle<f64>)>;
+
+fn workloads() -> Vec<(&'static str, Pairs)> {
+    let seed = 0x7121_d157;
+    let arm = mesh::carried("armadillo.off").expect("data/meshes/armadillo.off");
+    let fan = mesh::carried("fandisk_large.off").expect("data/meshes/fandisk_large.off");
+    let rnd = families::generate::<f64>(Family::Random, seed, 4096).into_iter().map(|c| (c.a, c.b)).collect();
+    vec![
+        ("random", rnd),
+        ("arm_arm_neighbouring", protocol::pairs(&arm, &arm, Grouping::Neighbouring, 4000, seed)),
+        ("arm_arm_random", protocol::pairs(&arm, &arm, Grouping::Random, 4000, seed)),
+        ("cad_cad_neighbouring", protocol::pairs(&fan, &fan, Grouping::Neighbouring, 4000, seed)),
+        ("cad_arm_random", protocol::pairs(&fan, &arm, Grouping::Random, 4000, seed)),
+    ]
+}
+
+fn bench_precision<T: Real>(c: &mut Criterion, name: &str, pairs: &Pairs) {
+    let w = Workload::<T>::new(pairs, 0.02);
+    for q in TQuery::ALL {
+        let mut g = c.benchmark_group(format!("{}/{name}/{}", q.name(), T::NAME));
+        g.throughput(Throughput::Elements(w.len(q) as u64));
+        g.sample_size(10);
+        for v in Variant::ALL {
+            match check(&w, q, v) {
+                None => continue,
+                Some(Err(e)) => panic!("{} {} {}: {e}", q.name(), v.name(), T::NAME),
+                Some(Ok(())) => {}
+            }
+            let e = Engine::new(v.isa()).expect("checked above");
+            let n = w.len(q);
+            let (mut out, mut flags) = (vec![T::ZERO; n], vec![None; n]);
+            g.bench_function(BenchmarkId::from_parameter(v.name()), |b| {
+                b.iter(|| w.run(q, e, v == Variant::Scalar, &mut out, &mut flags).expect("lengths match"))
+            });
+        }
+        g.finish();
+    }
+}
+
+fn kernels(c: &mut Criterion) {
+    for (name, pairs) in workloads() {
+        bench_precision::<f32>(c, name, &pairs);
+        bench_precision::<f64>(c, name, &pairs);
+    }
+}
+
+fn threads(c: &mut Criterion) {
+    let pairs = protocol::pairs(
+        &mesh::carried("armadillo.off").expect("mesh"),
+        &mesh::carried("armadillo.off").expect("mesh"),
+        Grouping::Random,
+        40_000,
+        1,
+    );
+    let a: Vec<_> = pairs.iter().map(|p| p.0.map(|v| v.map(|x| x as f32))).collect();
+    let b: Vec<_> = pairs.iter().map(|p| p.1.map(|v| v.map(|x| x as f32))).collect();
+    let (ba, bb) = (tridist::TriangleBatch::from_slice(&a), tridist::TriangleBatch::from_slice(&b));
+    let mut g = c.benchmark_group("threads/tri_tri/arm_arm_random/f32");
+    g.throughput(Throughput::Elements(a.len() as u64));
+    g.sample_size(10);
+    let mut out = vec![0.0f32; a.len()];
+    let e = Engine::auto();
+    let mut reference = vec![0.0f32; a.len()];
+    e.sqdist_triangle_triangle(&ba, &bb, &mut reference).expect("lengths");
+    for t in [1usize, 2] {
+        e.threads(t).sqdist_triangle_triangle(&ba, &bb, &mut out).expect("lengths");
+        assert_eq!(out, reference, "threaded results differ");
+        g.bench_function(BenchmarkId::from_parameter(format!("{}x{t}", e.isa().name())), |bch| {
+            bch.iter(|| e.threads(t).sqdist_triangle_triangle(&ba, &bb, &mut out).expect("lengths"))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, kernels, threads);
+criterion_main!(benches);
