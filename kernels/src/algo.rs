@@ -105,24 +105,16 @@ pub(crate) fn seg_seg<L: Lanes>(p1: V3<L>, d1: V3<L>, p2: V3<L>, d2: V3<L>) -> R
     let b = d1.dot(d2);
     let cc = d1.dot(r);
     let f = d2.dot(r);
-    let ae = a.mul(e);
-    let denom = ae.sub(b.mul(b));
-    let s0 = b.mul(f).sub(cc.mul(e)).safe_div(denom).clamp01();
-    // a*e - b^2 = |d1 x d2|^2 = a*e*sin^2(angle) cancels for nearly parallel segments: its
-    // rounding error (a few u*a*e) then dominates and s0 is noise, which moves the distance by
-    // about u*L/sin(angle) (the PQP/FCL trap). Below sin^2 = 1/16 recompute
-    // s0 = (n . (d2 x r)) / |n|^2, n = d1 x d2, from accurately rounded cross products: the
-    // error drops to about u*L. Exactly parallel segments get s0 = 0 (then the projections
-    // below find the right pair).
-    let near = denom.le(ae.mul(c(1.0 / 16.0)));
-    let s0 = if near.any() {
-        let n = d1.cross_accurate(d2);
-        let m = d2.cross_accurate(r);
-        let acc = n.dot(m).safe_div(n.norm2()).clamp01();
-        L::select(near, acc, s0)
-    } else {
-        s0
-    };
+    // Ericson's s0 = (b*f - c*e) / (a*e - b^2) loses about u/sin^2(angle) to cancellation, which
+    // moves the distance by about u*L/sin(angle): E grows like 1/sin(angle) at every angle, and
+    // without bound for nearly parallel segments (the PQP/FCL trap). Instead, by Lagrange's
+    // identity, s0 = (n . (d2 x r)) / |n|^2 with n = d1 x d2, from cross products whose
+    // components are rounded once (Kahan's algorithm with FMA, Dekker's products without):
+    // the error drops to about u*L at every angle. Exactly parallel segments (n = 0) get
+    // s0 = 0; the projections below then find the right pair.
+    let n = d1.cross_accurate(d2);
+    let m = d2.cross_accurate(r);
+    let s0 = n.dot(m).safe_div(n.norm2()).clamp01();
     let t = b.mul_add(s0, f).safe_div(e).clamp01();
     // Re-project s from the (clamped) t; equal to s0 when t was not clamped.
     let s = b.mul_add(t, cc.neg()).safe_div(a).clamp01();
@@ -169,7 +161,13 @@ pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) 
     let m_b = d3.ge(z).and(d4.le(d3)).andnot(done);
     q = V3::select(m_b, b, q);
     done = done.or(m_b);
-    let vc = d1.mul(d4).sub(d3.mul(d2));
+    // Ericson's region determinants va, vb, vc (= n . (b-x) x (c-x), ...) computed as triple
+    // products with accurately rounded cross products: the dot-product form (d1*d4 - d3*d2)
+    // misclassifies points inside thin triangles (found by fuzzing: a point on a sliver came
+    // back 490 u S away).
+    let n = ab.cross_accurate(ac);
+    let (xa, xb, xc) = (a.sub(x), b.sub(x), cv.sub(x));
+    let vc = n.dot(xa.cross_accurate(xb));
     let m_ab = vc.le(z).and(d1.ge(z)).and(d3.le(z)).andnot(done);
     if m_ab.any() {
         let v = d1.safe_div(d1.sub(d3));
@@ -182,14 +180,14 @@ pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) 
     let m_c = d6.ge(z).and(d5.le(d6)).andnot(done);
     q = V3::select(m_c, cv, q);
     done = done.or(m_c);
-    let vb = d5.mul(d2).sub(d1.mul(d6));
+    let vb = n.dot(xc.cross_accurate(xa));
     let m_ac = vb.le(z).and(d2.ge(z)).and(d6.le(z)).andnot(done);
     if m_ac.any() {
         let w = d2.safe_div(d2.sub(d6));
         q = V3::select(m_ac, a.add_scaled(ac, w), q);
     }
     done = done.or(m_ac);
-    let va = d3.mul(d6).sub(d5.mul(d4));
+    let va = n.dot(xb.cross_accurate(xc));
     let d43 = d4.sub(d3);
     let d56 = d5.sub(d6);
     let m_bc = va.le(z).and(d43.ge(z)).and(d56.ge(z)).andnot(done);
@@ -199,10 +197,12 @@ pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) 
     }
     done = done.or(m_bc);
     if !done.all() {
-        let denom = va.add(vb).add(vc);
-        let v = vb.safe_div(denom);
-        let w = vc.safe_div(denom);
-        q = V3::select(done, q, a.add_scaled(ab, v).add_scaled(ac, w));
+        // Interior: project x onto the plane along an accurately rounded normal instead of
+        // rebuilding it from barycentric coordinates, which are ill-conditioned for thin
+        // triangles (a point on a sliver came back 150 u S away; found by fuzzing).
+        let h = ap.dot(n).div(n.norm2().max(L::splat(L::S::MIN_POSITIVE)));
+        let proj = x.sub(n.scale(h));
+        q = V3::select(done, q, proj);
     }
     let deg = degenerate(ab, ac);
     if deg.any() {
@@ -286,7 +286,18 @@ pub(crate) fn intersect<L: Lanes>(s_in: &[V3<L>; 3], t_in: &[V3<L>; 3]) -> L::M 
         sep = sep.or(separated_on(e[k].cross(n), &s, &t));
         sep = sep.or(separated_on(f[k].cross(m), &s, &t));
     }
-    let both_deg = degenerate(e[0], s[2].sub(s[0])).and(degenerate(f[0], t[2].sub(t[0])));
+    let deg_s = degenerate(e[0], s[2].sub(s[0]));
+    let deg_t = degenerate(f[0], t[2].sub(t[0]));
+    if deg_s.or(deg_t).andnot(sep).any() {
+        // A degenerate triangle has no in-plane edge normals of its own (n x e = 0): when it
+        // lies in the other's plane, the separating line can be normal to its edges within the
+        // other's plane, so add the cross-normal axes e x m and f x n.
+        for k in 0..3 {
+            sep = sep.or(separated_on(e[k].cross(m), &s, &t));
+            sep = sep.or(separated_on(f[k].cross(n), &s, &t));
+        }
+    }
+    let both_deg = deg_s.and(deg_t);
     if both_deg.andnot(sep).any() {
         // Two segments/points: they touch iff an edge pair is at distance zero.
         let mut dmin = L::splat(L::S::INFINITY);
@@ -295,7 +306,9 @@ pub(crate) fn intersect<L: Lanes>(s_in: &[V3<L>; 3], t_in: &[V3<L>; 3]) -> L::M 
                 dmin = dmin.min(seg_seg(s[i], e[i], t[j], f[j]).d);
             }
         }
-        sep = L::select_mask(both_deg, dmin.gt(L::zero()), sep);
+        // Touching within 4 u S (the input is prescaled: S is about 1).
+        let tol = u::<L>().mul(c(4.0));
+        sep = L::select_mask(both_deg, dmin.gt(tol.mul(tol)), sep);
     }
     sep.not()
 }
@@ -444,9 +457,14 @@ pub(crate) fn tri_tri_pqp<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> Res<L> {
     let (side_s, cand_s) = plane_side(s, t);
     let (side_t, cand_t) = plane_side(t, s);
     disjoint = disjoint.or(side_s).or(side_t);
+    // The nearest-to-plane vertex candidates are real point pairs, so they are kept whether or
+    // not the side test was conclusive: with a rounding margin on that test, a pair whose
+    // triangle lies on one side by less than the margin can still be shown disjoint by the edge
+    // test, and PQP's "edge minimum" would then miss its vertex-face answer (found by fuzzing:
+    // twice the distance for nearly parallel f32 triangles at 1e12).
     let mut vf = best;
-    keep_min(&mut vf, L::select_res(side_s, swap(cand_s), best));
-    keep_min(&mut vf, L::select_res(side_t, cand_t, best));
+    keep_min(&mut vf, swap(cand_s));
+    keep_min(&mut vf, cand_t);
     let keep = done.not();
     best = L::select_res(keep, vf, best);
     // Lanes neither certified nor shown disjoint: decide overlap by separating axes. The edge

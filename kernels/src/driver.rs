@@ -151,10 +151,14 @@ pub(crate) fn q_within<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3], margin: L::S) -
     let m = L::splat(margin).div(sc.p);
     let m2 = m.mul(m);
     let inf = L::splat(L::S::INFINITY);
-    // The box gap is a lower bound up to rounding; keep a relative margin so that no pair within
-    // the margin is skipped.
-    let slack = L::one().add(L::splat(L::S::UNIT_ROUNDOFF).mul(L::splat(L::S::from_f64(16.0))));
-    let far = algo::aabb_gap2(&s, &t).gt(m2.mul(slack));
+    // The box gap is a lower bound up to rounding; keep slack for
+    // the margin (relative) and for the rounding of the full query near contact (absolute, in
+    // prescaled units where S is about 1), so that no pair the full query puts within the
+    // margin is skipped.
+    let uu = L::splat(L::S::UNIT_ROUNDOFF);
+    let slack = L::one().add(uu.mul(L::splat(L::S::from_f64(16.0))));
+    let abs = uu.mul(L::splat(L::S::from_f64(64.0)));
+    let far = algo::aabb_gap2(&s, &t).gt(m2.mul(slack).add(abs.mul(abs)));
     let r = if far.all() {
         Res { d: inf, p: V3::zero(), q: V3::zero() }
     } else {

@@ -294,3 +294,29 @@ fn threaded_batches_give_the_same_bits() {
         assert_eq!(f1, f2);
     }
 }
+
+#[test]
+fn within_margin_zero_agrees_for_touching_pairs_far_from_origin() {
+    // Found by `cargo fuzz run within`: margin 0 on a pair the full query puts at distance 0;
+    // the box test rejected it on a rounding-level gap. Fixed: absolute slack of 64 u S.
+    let a = [
+        [-783424.0, -1266637395981376.0, -140737489138752.0],
+        [140187731758016.1, -783424.0000000001, -549756597312.0],
+        [-549756597312.0, -549756597312.0, -783424.0],
+    ];
+    let b = [
+        [140187731758016.0, -783424.0, -549756597312.0],
+        [-783424.0, -783424.0, 280925220113344.0],
+        [-783423.9999999993, -783424.0, -783424.0],
+    ];
+    for e in engines() {
+        let (mut full, mut w) = ([0.0f64], [0.0f64]);
+        e.sqdist_triangle_triangle(Prims::One(&a), Prims::One(&b), &mut full).unwrap();
+        e.within_margin_triangle_triangle(Prims::One(&a), Prims::One(&b), 0.0, &mut w).unwrap();
+        if full[0] == 0.0 {
+            assert_eq!(w[0], 0.0, "{:?}", e.isa());
+        } else {
+            assert_eq!(w[0], f64::INFINITY, "{:?}", e.isa());
+        }
+    }
+}

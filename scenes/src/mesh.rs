@@ -106,7 +106,7 @@ impl Mesh {
                 Some(Ok(n)) => n,
                 _ => return err(ln, format!("bad face {l:?}")),
             };
-            if n < 3 || c.len() < n + 1 {
+            if n < 3 || c.len() - 1 < n {
                 return err(ln, format!("a face needs at least 3 vertex indices, found {l:?}"));
             }
             let mut idx = Vec::with_capacity(n);
@@ -175,4 +175,40 @@ pub fn data_dir() -> PathBuf {
 /// As [`Mesh::load`].
 pub fn carried(name: &str) -> Result<Mesh, Box<dyn std::error::Error + Send + Sync>> {
     Mesh::load(&data_dir().join(name))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Mesh;
+
+    #[test]
+    fn malformed_off_files_are_errors_with_line_numbers() {
+        let bad = [
+            ("", "empty"),
+            ("PLY\n", "header"),
+            ("OFF\n", "counts"),
+            ("OFF\n3 1 0\n0 0 0\n1 0 0\n", "truncated"),
+            ("OFF\n3 1 0\n0 0 0\n1 0 x\n0 1 0\n3 0 1 2\n", "bad coordinate"),
+            ("OFF\n3 1 0\n0 0 0\n1 0 inf\n0 1 0\n3 0 1 2\n", "bad coordinate"),
+            ("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "out of range"),
+            ("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n", "at least 3"),
+            // found by `cargo fuzz run parsers`: a huge vertex count in a face overflowed `n + 1`
+            ("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n18446744073709551615 0 1 2\n", "at least 3"),
+            ("OFF\n99999999999 1 0\n", "count"),
+        ];
+        for (text, what) in bad {
+            let e = Mesh::parse_off(text).expect_err(what);
+            assert!(e.to_string().contains(what) || e.msg.contains(what), "{what}: {e}");
+        }
+        let ok = Mesh::parse_off("OFF\n# a quad\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n").unwrap();
+        assert_eq!(ok.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+        assert_eq!(ok.neighbour_pairs(), vec![(0, 1)]);
+    }
+
+    #[test]
+    fn carried_meshes_load() {
+        let m = super::carried("armadillo.off").unwrap();
+        assert_eq!(m.triangles.len(), 52_000);
+        assert!(m.extent() > 0.0);
+    }
 }

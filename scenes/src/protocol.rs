@@ -91,7 +91,9 @@ pub fn pairs(
 }
 
 /// All 9 edge pairs of each triangle pair.
-pub fn edge_pairs<T: Copy>(p: &[(Triangle<T>, Triangle<T>)]) -> (Vec<[[T; 3]; 2]>, Vec<[[T; 3]; 2]>) {
+pub fn edge_pairs<T: Copy>(
+    p: &[(Triangle<T>, Triangle<T>)],
+) -> (Vec<tridist::Segment<T>>, Vec<tridist::Segment<T>>) {
     let mut a = Vec::with_capacity(9 * p.len());
     let mut b = Vec::with_capacity(9 * p.len());
     for (s, t) in p {
