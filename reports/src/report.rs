@@ -17,6 +17,8 @@ use crate::common::{fmt, header, Progress};
 use crate::svg::{Plot, Series};
 use tridist_scenes::workload::{measure, TQuery, Workload};
 
+type Pairs = Vec<(tridist::Triangle<f64>, tridist::Triangle<f64>)>;
+
 /// Report settings.
 pub struct Settings {
     /// Cases per (query, family, precision).
@@ -61,9 +63,7 @@ fn accuracy(s: &Settings, prog: &mut Progress) -> Vec<Row> {
     rows
 }
 
-fn workloads(
-    s: &Settings,
-) -> Result<Vec<(String, Vec<(tridist::Triangle<f64>, tridist::Triangle<f64>)>)>, String> {
+fn workloads(s: &Settings) -> Result<Vec<(String, Pairs)>, String> {
     let load = |n: &str| mesh::carried(n).map_err(|e| e.to_string());
     let arm = load("armadillo.off")?;
     let fan = load("fandisk_large.off")?;
