@@ -11,6 +11,8 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// Draw lines between consecutive points.
     pub line: bool,
+    /// Optional text beside each point (same order as `points`).
+    pub labels: Vec<String>,
 }
 
 /// A plot.
@@ -92,9 +94,18 @@ impl Plot {
         );
         let ticks = |a: f64, b: f64, log: bool| -> Vec<f64> {
             if log {
-                let (lo, hi) = (a.ceil() as i64, b.floor() as i64);
+                let (lo, hi) = (a.floor() as i64, b.ceil() as i64);
                 let step = ((hi - lo) / 8).max(1);
-                (lo..=hi).step_by(step as usize).map(|k| k as f64).collect()
+                let mut v: Vec<f64> = Vec::new();
+                for k in (lo..=hi).step_by(step as usize) {
+                    v.push(k as f64);
+                    if hi - lo <= 2 {
+                        v.push(k as f64 + 2f64.log10());
+                        v.push(k as f64 + 5f64.log10());
+                    }
+                }
+                v.retain(|&t| t >= a && t <= b);
+                v
             } else {
                 let span = b - a;
                 let mag = 10f64.powf(span.log10().floor());
@@ -112,7 +123,18 @@ impl Plot {
                 out
             }
         };
-        let fmt = |v: f64, log: bool| if log { format!("1e{}", v as i64) } else { format!("{v}") };
+        let fmt = |v: f64, log: bool| {
+            if log {
+                let m = 10f64.powf(v - v.floor()).round();
+                if m == 1.0 {
+                    format!("1e{}", v.floor() as i64)
+                } else {
+                    format!("{m}e{}", v.floor() as i64)
+                }
+            } else {
+                format!("{v}")
+            }
+        };
         for xt in ticks(x0, x1, self.xlog) {
             let _ = write!(
                 s,
@@ -161,12 +183,22 @@ impl Plot {
         }
         for (i, se) in self.series.iter().enumerate() {
             let c = COLORS[i % COLORS.len()];
-            let p: Vec<(f64, f64)> = se
-                .points
-                .iter()
-                .filter(|&&(x, y)| ok(x, self.xlog) && ok(y, self.ylog))
-                .map(|&(x, y)| (px(tx(x)), py(ty(y))))
+            let kept: Vec<usize> = (0..se.points.len())
+                .filter(|&k| ok(se.points[k].0, self.xlog) && ok(se.points[k].1, self.ylog))
                 .collect();
+            let p: Vec<(f64, f64)> =
+                kept.iter().map(|&k| (px(tx(se.points[k].0)), py(ty(se.points[k].1)))).collect();
+            for (j, &k) in kept.iter().enumerate() {
+                if let Some(lbl) = se.labels.get(k) {
+                    let _ = write!(
+                        s,
+                        r#"<text x="{:.1}" y="{:.1}" font-size="10" fill="{c}">{}</text>"#,
+                        p[j].0 + 5.0,
+                        p[j].1 - 5.0,
+                        esc(lbl)
+                    );
+                }
+            }
             if se.line && p.len() > 1 {
                 let d: Vec<String> = p.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
                 let _ = write!(
