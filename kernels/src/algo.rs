@@ -522,3 +522,140 @@ pub(crate) trait SelectExt: Lanes {
     }
 }
 impl<L: Lanes> SelectExt for L {}
+
+/// Options of the penalty method, already scaled to the prescaled input.
+#[derive(Clone, Copy)]
+pub(crate) struct PenaltyParams<S> {
+    pub rho: S,
+    pub reg: S,
+    pub tol: S,
+    pub max_iter: u32,
+    pub start: [S; 4],
+}
+
+/// Krestenitis & Koziara's penalty method (seed 003, Algorithm 1): minimise
+/// |x(a,b) - y(g,d)|^2 + rho * sum max(0, c_i)^2 over the barycentric parameters with a
+/// regularised Newton step (Hessian + reg * I, no line search), every lane iterating
+/// independently until its step, measured on the geometry, is below `tol` or `max_iter` is
+/// reached. `rho` and `reg` are relative to the pair's own curvature (trace of the Hessian of
+/// the distance term / 4), so the method behaves the same at every scale. Input must be
+/// prescaled. Returns the result and the iterations each lane used.
+#[inline(always)]
+pub(crate) fn tri_tri_penalty<L: Lanes>(
+    s: &[V3<L>; 3],
+    t: &[V3<L>; 3],
+    o: PenaltyParams<L::S>,
+) -> (Res<L>, L) {
+    let ba = s[1].sub(s[0]);
+    let ca = s[2].sub(s[0]);
+    let ed = t[1].sub(t[0]);
+    let fd = t[2].sub(t[0]);
+    let two = c::<L>(2.0);
+    // Hessian of |x - y|^2 (symmetric 4x4), upper triangle.
+    let h00 = two.mul(ba.norm2());
+    let h01 = two.mul(ba.dot(ca));
+    let h02 = two.mul(ba.dot(ed)).neg();
+    let h03 = two.mul(ba.dot(fd)).neg();
+    let h11 = two.mul(ca.norm2());
+    let h12 = two.mul(ca.dot(ed)).neg();
+    let h13 = two.mul(ca.dot(fd)).neg();
+    let h22 = two.mul(ed.norm2());
+    let h23 = two.mul(ed.dot(fd));
+    let h33 = two.mul(fd.norm2());
+    let scale = h00.add(h11).add(h22).add(h33).mul(c(0.25)).max(L::splat(L::S::MIN_POSITIVE));
+    let rho = L::splat(o.rho).mul(scale);
+    let reg = L::splat(o.reg).mul(scale);
+    let tol2 = L::splat(o.tol).mul(L::splat(o.tol));
+    let mut x = o.start.map(L::splat);
+    let mut done = L::zero().lt(L::zero());
+    let mut iters = L::zero();
+    let z = L::zero();
+    let one = L::one();
+    for _ in 0..o.max_iter {
+        let xp = s[0].add_scaled(ba, x[0]).add_scaled(ca, x[1]);
+        let yp = t[0].add_scaled(ed, x[2]).add_scaled(fd, x[3]);
+        let xy = xp.sub(yp);
+        let mut g =
+            [two.mul(xy.dot(ba)), two.mul(xy.dot(ca)), two.mul(xy.dot(ed)).neg(), two.mul(xy.dot(fd)).neg()];
+        // constraints c_i <= 0: -a, -b, a+b-1, -g, -d, g+d-1; penalty on the violated ones
+        let cs = [
+            x[0].neg(),
+            x[1].neg(),
+            x[0].add(x[1]).sub(one),
+            x[2].neg(),
+            x[3].neg(),
+            x[2].add(x[3]).sub(one),
+        ];
+        let act = cs.map(|ci| L::select(ci.ge(z), one, z));
+        let pen = cs.map(|ci| ci.max(z));
+        g[0] = g[0].add(rho.mul(pen[2].sub(pen[0])));
+        g[1] = g[1].add(rho.mul(pen[2].sub(pen[1])));
+        g[2] = g[2].add(rho.mul(pen[5].sub(pen[3])));
+        g[3] = g[3].add(rho.mul(pen[5].sub(pen[4])));
+        let m00 = h00.add(rho.mul(act[0].add(act[2]))).add(reg);
+        let m01 = h01.add(rho.mul(act[2]));
+        let m11 = h11.add(rho.mul(act[1].add(act[2]))).add(reg);
+        let m22 = h22.add(rho.mul(act[3].add(act[5]))).add(reg);
+        let m23 = h23.add(rho.mul(act[5]));
+        let m33 = h33.add(rho.mul(act[4].add(act[5]))).add(reg);
+        let dx = solve_spd4(
+            [[m00, m01, h02, h03], [m01, m11, h12, h13], [h02, h12, m22, m23], [h03, h13, m23, m33]],
+            g,
+        );
+        let step = ba.scale(dx[0]).add_scaled(ca, dx[1]);
+        let stept = ed.scale(dx[2]).add_scaled(fd, dx[3]);
+        let err2 = step.norm2().add(stept.norm2());
+        let open = done.not();
+        for k in 0..4 {
+            x[k] = L::select(open, x[k].sub(dx[k]), x[k]);
+        }
+        iters = L::select(open, iters.add(one), iters);
+        done = done.or(err2.lt(tol2));
+        if done.all() {
+            break;
+        }
+    }
+    // The penalty solution lies outside the triangles by about 1/rho, and an iteration that
+    // diverged may be anywhere: bring the parameters back into each triangle (clamp, then scale
+    // onto a + b <= 1; NaN goes back to the start) so that the points are real points of the
+    // triangles and the distance an upper bound. Not the exact projection: the gap to the true
+    // distance is what the accuracy report measures.
+    let feasible = |u: L, v: L, u0: L, v0: L| {
+        let ok = u.eq(u).and(v.eq(v));
+        let (u, v) = (L::select(ok, u, u0).max(z), L::select(ok, v, v0).max(z));
+        let sum = u.add(v);
+        let over = sum.gt(one);
+        (L::select(over, u.safe_div(sum), u), L::select(over, v.safe_div(sum), v))
+    };
+    let st = o.start.map(L::splat);
+    let (a0, b0) = feasible(x[0], x[1], st[0], st[1]);
+    let (g0, d0) = feasible(x[2], x[3], st[2], st[3]);
+    let p = s[0].add_scaled(ba, a0).add_scaled(ca, b0);
+    let q = t[0].add_scaled(ed, g0).add_scaled(fd, d0);
+    (Res { d: p.sub(q).norm2(), p, q }, iters)
+}
+
+/// Solves a symmetric positive definite 4x4 system by Gaussian elimination without pivoting,
+/// fused and unrolled (no allocation, four divisions).
+#[inline(always)]
+fn solve_spd4<L: Lanes>(mut m: [[L; 4]; 4], mut r: [L; 4]) -> [L; 4] {
+    for k in 0..4 {
+        let inv = L::one().safe_div(m[k][k]);
+        for i in (k + 1)..4 {
+            let f = m[i][k].mul(inv);
+            for j in (k + 1)..4 {
+                m[i][j] = m[i][j].sub(f.mul(m[k][j]));
+            }
+            r[i] = r[i].sub(f.mul(r[k]));
+        }
+    }
+    let mut x = [L::zero(); 4];
+    for k in (0..4).rev() {
+        let mut acc = r[k];
+        for j in (k + 1)..4 {
+            acc = acc.sub(m[k][j].mul(x[j]));
+        }
+        x[k] = acc.safe_div(m[k][k]);
+    }
+    x
+}

@@ -17,6 +17,7 @@ pub enum QueryKind {
     TriTriBrute,
     Intersect,
     Within,
+    Penalty,
 }
 
 /// Where one side's primitives come from (K points each). Hidden plumbing.
@@ -49,6 +50,9 @@ pub struct Job<'a, T> {
     pub d: DOut<'a, T>,
     pub p: Option<&'a mut [[T; 3]]>,
     pub q: Option<&'a mut [[T; 3]]>,
+    /// Penalty-method options and iteration counts (penalty query only).
+    pub penalty: crate::PenaltyOptions<T>,
+    pub iters: Option<&'a mut [u32]>,
 }
 
 impl<'a, T: Real> Src<'a, T> {
@@ -206,6 +210,21 @@ fn eval<L: Lanes, const Q: u8>(a: &[V3<L>; 3], b: &[V3<L>; 3], param: L::S) -> R
     }
 }
 
+/// Penalty method on raw input: result and iterations per lane.
+#[inline(always)]
+pub(crate) fn q_penalty<L: Lanes>(
+    a: &[V3<L>; 3],
+    b: &[V3<L>; 3],
+    o: crate::PenaltyOptions<L::S>,
+) -> (Res<L>, L) {
+    let sc = scale_tris(a, b);
+    let (s, t) = split(sc.pts);
+    let params =
+        algo::PenaltyParams { rho: o.rho, reg: o.reg, tol: o.tol, max_iter: o.max_iter, start: o.start };
+    let (r, it) = algo::tri_tri_penalty(&s, &t, params);
+    (algo::unscale(r, sc.p, sc.finite), it)
+}
+
 #[inline(always)]
 fn run_q<L: Lanes, const Q: u8, const PTS: bool>(job: &mut Job<'_, L::S>) {
     let n = job.n;
@@ -214,7 +233,19 @@ fn run_q<L: Lanes, const Q: u8, const PTS: bool>(job: &mut Job<'_, L::S>) {
     while i < n {
         let a = job.a.load::<L>(i);
         let b = job.b.load::<L>(i);
-        let r = eval::<L, Q>(&a, &b, param);
+        let r = if Q == 6 {
+            let (r, it) = q_penalty(&a, &b, job.penalty);
+            if let Some(out) = job.iters.as_deref_mut() {
+                let mut buf = [L::S::ZERO; 8];
+                it.store(&mut buf);
+                for l in 0..(n - i).min(L::N) {
+                    out[i + l] = buf[l].to_f64() as u32;
+                }
+            }
+            r
+        } else {
+            eval::<L, Q>(&a, &b, param)
+        };
         match &mut job.d {
             DOut::Real(out) => store_lanes(r.d, out, i, n),
             DOut::Flag(out) => {
@@ -264,5 +295,6 @@ pub(crate) fn run<L: Lanes>(job: &mut Job<'_, L::S>) {
         QueryKind::TriTriBrute => go!(3),
         QueryKind::Intersect => run_q::<L, 4, false>(job),
         QueryKind::Within => go!(5),
+        QueryKind::Penalty => go!(6),
     }
 }

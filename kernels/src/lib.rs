@@ -95,6 +95,8 @@ pub enum Error {
     UnknownIsa(String),
     /// The margin of a within-margin query is negative or not finite.
     InvalidMargin,
+    /// Penalty-method options out of range (see [`PenaltyOptions`]).
+    InvalidOptions,
     /// A mesh index names no vertex.
     IndexOutOfRange {
         /// Triangle number.
@@ -117,6 +119,10 @@ impl core::fmt::Display for Error {
                 write!(f, "unknown variant {s:?} (expected scalar, sse41, avx or avx2fma)")
             }
             Error::InvalidMargin => write!(f, "margin must be finite and non-negative"),
+            Error::InvalidOptions => write!(
+                f,
+                "penalty options: rho, reg and tol must be finite and positive, max_iter at least 1, start finite"
+            ),
             Error::IndexOutOfRange { triangle, index, vertices } => {
                 write!(f, "triangle {triangle} uses vertex index {index}, but there are {vertices} vertices")
             }
@@ -173,6 +179,51 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
             Prims::Aos(s) => Src::Aos { flat: s.as_flattened().as_flattened(), len: s.len(), k: K },
             Prims::One(p) => Src::One { flat: p.as_flattened(), k: K },
         }
+    }
+}
+
+/// Options of the penalty method ([`Engine::closest_points_triangle_triangle_penalty`]): the
+/// speed-for-accuracy knob. `rho` and `reg` are relative to the pair's own curvature and `tol`
+/// to its magnitude, so the same options behave the same at every scale.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PenaltyOptions<T> {
+    /// Penalty weight (relative). Larger: points closer to their triangles, worse conditioning.
+    pub rho: T,
+    /// Regularisation added to the Hessian's diagonal (relative); the paper uses 1/rho^2.
+    pub reg: T,
+    /// Stop when the step, measured on the geometry, is below `tol * S`.
+    pub tol: T,
+    /// Iteration limit.
+    pub max_iter: u32,
+    /// Start point (a, b, g, d): barycentric parameters of both triangles.
+    pub start: [T; 4],
+}
+
+impl<T: Real> Default for PenaltyOptions<T> {
+    /// rho = 1/(4 sqrt(u)) (about 1e3 for f32, 2.4e7 for f64: larger rho makes the Newton
+    /// system too ill-conditioned for the precision), reg = 1/rho^2 as in the paper,
+    /// tol = 64 u, 32 iterations, start (1/3, 1/3, 1/3, 1/3).
+    fn default() -> Self {
+        let third = T::ONE / T::from_f64(3.0);
+        let rho = 0.25 / T::UNIT_ROUNDOFF.to_f64().sqrt();
+        PenaltyOptions {
+            rho: T::from_f64(rho),
+            reg: T::from_f64(1.0 / (rho * rho)),
+            tol: T::UNIT_ROUNDOFF * T::from_f64(64.0),
+            max_iter: 32,
+            start: [third; 4],
+        }
+    }
+}
+
+impl<T: Real> PenaltyOptions<T> {
+    fn is_valid(&self) -> bool {
+        let pos = |x: T| x.is_finite() && x > T::ZERO;
+        pos(self.rho)
+            && pos(self.reg)
+            && pos(self.tol)
+            && self.max_iter >= 1
+            && self.start.iter().all(|x| x.is_finite())
     }
 }
 
@@ -296,8 +347,9 @@ impl Engine {
             check("out_q", q.len())?;
         }
         let (sa, sb) = (a.src(), b.src());
+        let penalty = PenaltyOptions::default();
         if self.threads <= 1 || n < 1024 {
-            let mut job = Job { query, a: sa, b: sb, n, param, d, p, q };
+            let mut job = Job { query, a: sa, b: sb, n, param, d, p, q, penalty, iters: None };
             T::__run(self.isa, &mut job);
             return Ok(());
         }
@@ -333,6 +385,8 @@ impl Engine {
                     d: d_now,
                     p: p_now,
                     q: q_now,
+                    penalty,
+                    iters: None,
                 };
                 scope.spawn(move || T::__run(isa, &mut job));
                 start += len;
@@ -434,6 +488,67 @@ impl Engine {
             return Err(Error::InvalidMargin);
         }
         self.exec(QueryKind::Within, a.into(), b.into(), margin, DOut::Real(out), None, None)
+    }
+
+    /// Triangle-triangle distance by Krestenitis & Koziara's penalty method (seed 003): a
+    /// regularised Newton iteration on the barycentric parameters of both triangles, each lane
+    /// iterating independently. Writes the squared distance of the returned points, the points
+    /// (`out_p` near `a`, `out_q` near `b`) and the iterations used.
+    ///
+    /// # Behaviour
+    /// An approximation whose accuracy the caller trades for speed with
+    /// [`PenaltyOptions`]: the points may lie outside their triangles by about 1/rho (in
+    /// barycentric units), so the distance can be *below* the true one; intersecting pairs give
+    /// a small positive or zero distance; parallel faces have many minimisers (the
+    /// regularisation picks one); degenerate triangles are handled by the regularisation. NaN
+    /// input gives NaN. Measured errors per family: `reports/ACCURACY.md` (query `penalty`).
+    ///
+    /// # Errors
+    /// As [`Engine::closest_points_triangle_triangle`], also for `out_iters`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn closest_points_triangle_triangle_penalty<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 3>>,
+        b: impl Into<Prims<'a, T, 3>>,
+        options: &PenaltyOptions<T>,
+        out: &mut [T],
+        out_p: &mut [Point<T>],
+        out_q: &mut [Point<T>],
+        out_iters: &mut [u32],
+    ) -> Result<(), Error> {
+        let (a, b) = (a.into(), b.into());
+        let n = match (a.len(), b.len()) {
+            (Some(x), Some(y)) if x != y => {
+                return Err(Error::LengthMismatch { what: "b", expected: x, found: y })
+            }
+            (Some(x), _) | (None, Some(x)) => x,
+            (None, None) => 1,
+        };
+        if out_iters.len() != n {
+            return Err(Error::LengthMismatch { what: "out_iters", expected: n, found: out_iters.len() });
+        }
+        for (what, len) in [("out", out.len()), ("out_p", out_p.len()), ("out_q", out_q.len())] {
+            if len != n {
+                return Err(Error::LengthMismatch { what, expected: n, found: len });
+            }
+        }
+        if !options.is_valid() {
+            return Err(Error::InvalidOptions);
+        }
+        let mut job = Job {
+            query: QueryKind::Penalty,
+            a: a.src(),
+            b: b.src(),
+            n,
+            param: T::ZERO,
+            d: DOut::Real(out),
+            p: Some(out_p),
+            q: Some(out_q),
+            penalty: *options,
+            iters: Some(out_iters),
+        };
+        T::__run(self.isa, &mut job);
+        Ok(())
     }
 
     /// Squared segment-segment distances (Ericson 5.1.9 with a relative parallel test).

@@ -320,3 +320,46 @@ fn within_margin_zero_agrees_for_touching_pairs_far_from_origin() {
         }
     }
 }
+
+#[test]
+fn penalty_method_returns_feasible_points_and_honours_its_options() {
+    let ps = pairs::<f64>(100);
+    let a: Vec<_> = ps.iter().map(|x| x.0).collect();
+    let b: Vec<_> = ps.iter().map(|x| x.1).collect();
+    let n = ps.len();
+    for e in engines() {
+        let opts = tridist::PenaltyOptions { max_iter: 5, ..Default::default() };
+        let (mut d, mut p, mut q, mut it) =
+            (vec![0.0; n], vec![[0.0; 3]; n], vec![[0.0; 3]; n], vec![0u32; n]);
+        e.closest_points_triangle_triangle_penalty(&a, &b, &opts, &mut d, &mut p, &mut q, &mut it).unwrap();
+        let mut exact = vec![0.0; n];
+        e.sqdist_triangle_triangle(&a, &b, &mut exact).unwrap();
+        for i in 0..n {
+            assert!((1..=5).contains(&it[i]), "{:?}: {} iterations", e.isa(), it[i]);
+            // the points are projected into their triangles: an upper bound of the distance
+            assert!(
+                d[i] >= exact[i] * (1.0 - 1e-9) - 1e-12,
+                "{:?} pair {i}: {} < {}",
+                e.isa(),
+                d[i],
+                exact[i]
+            );
+            let dd: f64 = (0..3).map(|k| (p[i][k] - q[i][k]).powi(2)).sum();
+            assert!((dd - d[i]).abs() <= 1e-12 * (1.0 + d[i]), "the distance is that of the points");
+        }
+        let bad = tridist::PenaltyOptions { rho: -1.0, ..opts };
+        assert_eq!(
+            e.closest_points_triangle_triangle_penalty(&a, &b, &bad, &mut d, &mut p, &mut q, &mut it),
+            Err(Error::InvalidOptions)
+        );
+        let zero = tridist::PenaltyOptions { max_iter: 0, ..opts };
+        assert_eq!(
+            e.closest_points_triangle_triangle_penalty(&a, &b, &zero, &mut d, &mut p, &mut q, &mut it),
+            Err(Error::InvalidOptions)
+        );
+        assert!(matches!(
+            e.closest_points_triangle_triangle_penalty(&a, &b, &opts, &mut d, &mut p, &mut q, &mut it[..3]),
+            Err(Error::LengthMismatch { what: "out_iters", .. })
+        ));
+    }
+}

@@ -21,12 +21,14 @@ pub enum Query {
     TriTriBrute,
     /// Triangle-triangle intersection only.
     Intersect,
+    /// Triangle-triangle by the penalty method (default options).
+    Penalty,
 }
 
 impl Query {
     /// Every query judged against the oracle.
-    pub const ALL: [Query; 5] =
-        [Query::SegSeg, Query::PointTri, Query::TriTri, Query::TriTriBrute, Query::Intersect];
+    pub const ALL: [Query; 6] =
+        [Query::SegSeg, Query::PointTri, Query::TriTri, Query::TriTriBrute, Query::Intersect, Query::Penalty];
     /// Short name.
     pub fn name(self) -> &'static str {
         match self {
@@ -35,6 +37,7 @@ impl Query {
             Query::TriTri => "tri_tri",
             Query::TriTriBrute => "tri_tri_brute",
             Query::Intersect => "intersect",
+            Query::Penalty => "penalty",
         }
     }
     /// Parses [`Query::name`].
@@ -139,6 +142,9 @@ pub fn run<T: Real>(query: Query, variant: Variant, cases: &[Case<T>]) -> Result
                 e.closest_points_triangle_triangle_brute(pa, pb, &mut o.d, &mut o.p, &mut o.q)?;
             }
         }
+        Query::Penalty => {
+            run_penalty(variant, cases, &tridist::PenaltyOptions::default(), &mut o)?;
+        }
         Query::Intersect => {
             let a: Vec<_> = cases.iter().map(|c| c.a).collect();
             let b: Vec<_> = cases.iter().map(|c| c.b).collect();
@@ -185,6 +191,33 @@ pub fn run<T: Real>(query: Query, variant: Variant, cases: &[Case<T>]) -> Result
         }
     }
     Ok(o)
+}
+
+/// Runs the penalty method with `opts`; returns the iteration counts.
+///
+/// # Errors
+/// When the variant is unavailable or the options are invalid.
+pub fn run_penalty<T: Real>(
+    variant: Variant,
+    cases: &[Case<T>],
+    opts: &tridist::PenaltyOptions<T>,
+    o: &mut Output<T>,
+) -> Result<Vec<u32>, tridist::Error> {
+    let e = variant.engine()?;
+    let n = cases.len();
+    o.d.resize(n, T::ZERO);
+    o.p.resize(n, [T::ZERO; 3]);
+    o.q.resize(n, [T::ZERO; 3]);
+    let mut it = vec![0u32; n];
+    let a: Vec<_> = cases.iter().map(|c| c.a).collect();
+    let b: Vec<_> = cases.iter().map(|c| c.b).collect();
+    if variant == Variant::Scalar {
+        e.closest_points_triangle_triangle_penalty(&a, &b, opts, &mut o.d, &mut o.p, &mut o.q, &mut it)?;
+    } else {
+        let (ba, bb) = (TriangleBatch::from_slice(&a), TriangleBatch::from_slice(&b));
+        e.closest_points_triangle_triangle_penalty(&ba, &bb, opts, &mut o.d, &mut o.p, &mut o.q, &mut it)?;
+    }
+    Ok(it)
 }
 
 /// The exact answer for one case.

@@ -23,12 +23,21 @@ pub enum TQuery {
     Intersect,
     /// Within-margin.
     Within,
+    /// Penalty method (default options).
+    Penalty,
 }
 
 impl TQuery {
     /// Every measured query.
-    pub const ALL: [TQuery; 6] =
-        [TQuery::TriPoint, TQuery::SegSeg, TQuery::TriTri, TQuery::Brute, TQuery::Intersect, TQuery::Within];
+    pub const ALL: [TQuery; 7] = [
+        TQuery::TriPoint,
+        TQuery::SegSeg,
+        TQuery::TriTri,
+        TQuery::Brute,
+        TQuery::Intersect,
+        TQuery::Within,
+        TQuery::Penalty,
+    ];
     /// Name for tables.
     pub fn name(self) -> &'static str {
         match self {
@@ -38,6 +47,7 @@ impl TQuery {
             TQuery::Brute => "tri_tri_brute",
             TQuery::Intersect => "intersect",
             TQuery::Within => "within",
+            TQuery::Penalty => "penalty",
         }
     }
 }
@@ -118,6 +128,22 @@ impl<T: Real> Workload<T> {
             (TQuery::Within, true) => e.within_margin_triangle_triangle(&self.ta, &self.tb, self.margin, out),
             (TQuery::Within, false) => {
                 e.within_margin_triangle_triangle(&self.bta, &self.btb, self.margin, out)
+            }
+            (TQuery::Penalty, aos) => {
+                // Outputs the caller does not read still have to exist: allocated per pass,
+                // a small part of the iteration's cost.
+                let n = self.ta.len();
+                let (mut p, mut q, mut it) = (vec![[T::ZERO; 3]; n], vec![[T::ZERO; 3]; n], vec![0u32; n]);
+                let o = tridist::PenaltyOptions::default();
+                if aos {
+                    e.closest_points_triangle_triangle_penalty(
+                        &self.ta, &self.tb, &o, out, &mut p, &mut q, &mut it,
+                    )
+                } else {
+                    e.closest_points_triangle_triangle_penalty(
+                        &self.bta, &self.btb, &o, out, &mut p, &mut q, &mut it,
+                    )
+                }
             }
         }
     }
