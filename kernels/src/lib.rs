@@ -320,6 +320,7 @@ impl Engine {
         d: DOut<'_, T>,
         p: Option<&mut [Point<T>]>,
         q: Option<&mut [Point<T>]>,
+        penalty: Option<(PenaltyOptions<T>, &mut [u32])>,
     ) -> Result<(), Error> {
         let n = match (a.len(), b.len()) {
             (Some(x), Some(y)) if x != y => {
@@ -346,10 +347,19 @@ impl Engine {
         if let Some(q) = &q {
             check("out_q", q.len())?;
         }
+        let (options, mut iters) = match penalty {
+            Some((o, it)) => {
+                check("out_iters", it.len())?;
+                if !o.is_valid() {
+                    return Err(Error::InvalidOptions);
+                }
+                (o, Some(it))
+            }
+            None => (PenaltyOptions::default(), None),
+        };
         let (sa, sb) = (a.src(), b.src());
-        let penalty = PenaltyOptions::default();
         if self.threads <= 1 || n < 1024 {
-            let mut job = Job { query, a: sa, b: sb, n, param, d, p, q, penalty, iters: None };
+            let mut job = Job { query, a: sa, b: sb, n, param, d, p, q, penalty: options, iters };
             T::__run(self.isa, &mut job);
             return Ok(());
         }
@@ -376,6 +386,8 @@ impl Engine {
                 let (p_now, p_rest) = split_opt(p, len);
                 let (q_now, q_rest) = split_opt(q, len);
                 (p, q) = (p_rest, q_rest);
+                let (it_now, it_rest) = split_opt(iters, len);
+                iters = it_rest;
                 let mut job = Job {
                     query,
                     a: sa.from(start),
@@ -385,8 +397,8 @@ impl Engine {
                     d: d_now,
                     p: p_now,
                     q: q_now,
-                    penalty,
-                    iters: None,
+                    penalty: options,
+                    iters: it_now,
                 };
                 scope.spawn(move || T::__run(isa, &mut job));
                 start += len;
@@ -407,7 +419,7 @@ impl Engine {
         b: impl Into<Prims<'a, T, 3>>,
         out: &mut [T],
     ) -> Result<(), Error> {
-        self.exec(QueryKind::TriTri, a.into(), b.into(), T::ZERO, DOut::Real(out), None, None)
+        self.exec(QueryKind::TriTri, a.into(), b.into(), T::ZERO, DOut::Real(out), None, None, None)
     }
 
     /// Squared distances and closest points (`out_p` on `a`, `out_q` on `b`).
@@ -423,7 +435,7 @@ impl Engine {
         out_q: &mut [Point<T>],
     ) -> Result<(), Error> {
         let (a, b) = (a.into(), b.into());
-        self.exec(QueryKind::TriTri, a, b, T::ZERO, DOut::Real(out), Some(out_p), Some(out_q))
+        self.exec(QueryKind::TriTri, a, b, T::ZERO, DOut::Real(out), Some(out_p), Some(out_q), None)
     }
 
     /// Squared distances by brute force: the minimum over the 15 feature pairs (9 edge-edge,
@@ -437,7 +449,7 @@ impl Engine {
         b: impl Into<Prims<'a, T, 3>>,
         out: &mut [T],
     ) -> Result<(), Error> {
-        self.exec(QueryKind::TriTriBrute, a.into(), b.into(), T::ZERO, DOut::Real(out), None, None)
+        self.exec(QueryKind::TriTriBrute, a.into(), b.into(), T::ZERO, DOut::Real(out), None, None, None)
     }
 
     /// Brute force with closest points.
@@ -453,7 +465,7 @@ impl Engine {
         out_q: &mut [Point<T>],
     ) -> Result<(), Error> {
         let (a, b) = (a.into(), b.into());
-        self.exec(QueryKind::TriTriBrute, a, b, T::ZERO, DOut::Real(out), Some(out_p), Some(out_q))
+        self.exec(QueryKind::TriTriBrute, a, b, T::ZERO, DOut::Real(out), Some(out_p), Some(out_q), None)
     }
 
     /// Intersection only (separating axes): `Some(true)` when the triangles touch or overlap,
@@ -467,7 +479,7 @@ impl Engine {
         b: impl Into<Prims<'a, T, 3>>,
         out: &mut [Option<bool>],
     ) -> Result<(), Error> {
-        self.exec(QueryKind::Intersect, a.into(), b.into(), T::ZERO, DOut::Flag(out), None, None)
+        self.exec(QueryKind::Intersect, a.into(), b.into(), T::ZERO, DOut::Flag(out), None, None, None)
     }
 
     /// Within-margin: `out[i]` is the squared distance when the distance is at most `margin`,
@@ -487,7 +499,7 @@ impl Engine {
         if !(margin.is_finite() && margin >= T::ZERO) {
             return Err(Error::InvalidMargin);
         }
-        self.exec(QueryKind::Within, a.into(), b.into(), margin, DOut::Real(out), None, None)
+        self.exec(QueryKind::Within, a.into(), b.into(), margin, DOut::Real(out), None, None, None)
     }
 
     /// Triangle-triangle distance by Krestenitis & Koziara's penalty method (seed 003): a
@@ -517,38 +529,8 @@ impl Engine {
         out_iters: &mut [u32],
     ) -> Result<(), Error> {
         let (a, b) = (a.into(), b.into());
-        let n = match (a.len(), b.len()) {
-            (Some(x), Some(y)) if x != y => {
-                return Err(Error::LengthMismatch { what: "b", expected: x, found: y })
-            }
-            (Some(x), _) | (None, Some(x)) => x,
-            (None, None) => 1,
-        };
-        if out_iters.len() != n {
-            return Err(Error::LengthMismatch { what: "out_iters", expected: n, found: out_iters.len() });
-        }
-        for (what, len) in [("out", out.len()), ("out_p", out_p.len()), ("out_q", out_q.len())] {
-            if len != n {
-                return Err(Error::LengthMismatch { what, expected: n, found: len });
-            }
-        }
-        if !options.is_valid() {
-            return Err(Error::InvalidOptions);
-        }
-        let mut job = Job {
-            query: QueryKind::Penalty,
-            a: a.src(),
-            b: b.src(),
-            n,
-            param: T::ZERO,
-            d: DOut::Real(out),
-            p: Some(out_p),
-            q: Some(out_q),
-            penalty: *options,
-            iters: Some(out_iters),
-        };
-        T::__run(self.isa, &mut job);
-        Ok(())
+        let (d, p, q) = (DOut::Real(out), Some(out_p), Some(out_q));
+        self.exec(QueryKind::Penalty, a, b, T::ZERO, d, p, q, Some((*options, out_iters)))
     }
 
     /// Squared segment-segment distances (Ericson 5.1.9 with a relative parallel test).
@@ -561,7 +543,7 @@ impl Engine {
         b: impl Into<Prims<'a, T, 2>>,
         out: &mut [T],
     ) -> Result<(), Error> {
-        self.exec(QueryKind::SegSeg, a.into(), b.into(), T::ZERO, DOut::Real(out), None, None)
+        self.exec(QueryKind::SegSeg, a.into(), b.into(), T::ZERO, DOut::Real(out), None, None, None)
     }
 
     /// Squared segment-segment distances and closest points.
@@ -577,7 +559,7 @@ impl Engine {
         out_q: &mut [Point<T>],
     ) -> Result<(), Error> {
         let (a, b) = (a.into(), b.into());
-        self.exec(QueryKind::SegSeg, a, b, T::ZERO, DOut::Real(out), Some(out_p), Some(out_q))
+        self.exec(QueryKind::SegSeg, a, b, T::ZERO, DOut::Real(out), Some(out_p), Some(out_q), None)
     }
 
     /// Squared point-triangle distances (Ericson 5.1.5). `a` holds points (`[Point; 1]`).
@@ -590,7 +572,7 @@ impl Engine {
         b: impl Into<Prims<'a, T, 3>>,
         out: &mut [T],
     ) -> Result<(), Error> {
-        self.exec(QueryKind::PointTri, a.into(), b.into(), T::ZERO, DOut::Real(out), None, None)
+        self.exec(QueryKind::PointTri, a.into(), b.into(), T::ZERO, DOut::Real(out), None, None, None)
     }
 
     /// Squared point-triangle distances and the closest points on the triangles (`out_q`).
@@ -604,13 +586,11 @@ impl Engine {
         out: &mut [T],
         out_q: &mut [Point<T>],
     ) -> Result<(), Error> {
-        self.exec(QueryKind::PointTri, a.into(), b.into(), T::ZERO, DOut::Real(out), None, Some(out_q))
+        self.exec(QueryKind::PointTri, a.into(), b.into(), T::ZERO, DOut::Real(out), None, Some(out_q), None)
     }
 }
 
-type PtsMut<'a, T> = Option<&'a mut [Point<T>]>;
-
-fn split_opt<T>(s: PtsMut<'_, T>, at: usize) -> (PtsMut<'_, T>, PtsMut<'_, T>) {
+fn split_opt<T>(s: Option<&mut [T]>, at: usize) -> (Option<&mut [T]>, Option<&mut [T]>) {
     match s {
         Some(s) => {
             let (x, y) = s.split_at_mut(at);
@@ -637,6 +617,7 @@ fn single<T: Real, const KA: usize, const KB: usize>(
         DOut::Real(&mut d),
         Some(&mut p),
         Some(&mut q),
+        None,
     );
     debug_assert!(r.is_ok());
     ClosestPoints { sqdist: d[0], p: p[0], q: q[0] }
