@@ -413,6 +413,13 @@ impl Engine {
     /// # Errors
     /// [`Error::LengthMismatch`] when `a`, `b` and `out` disagree in length (a [`Prims::One`]
     /// side matches any length). An empty batch is fine and writes nothing.
+    ///
+    /// # Precision
+    /// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+    /// (query `tri_tri`), enforced by the bound table in `scenes/src/bounds.rs`.
+    ///
+    /// # Performance
+    /// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
     pub fn sqdist_triangle_triangle<'a, T: Real>(
         &self,
         a: impl Into<Prims<'a, T, 3>>,
@@ -426,6 +433,13 @@ impl Engine {
     ///
     /// # Errors
     /// As [`Engine::sqdist_triangle_triangle`], also for `out_p`/`out_q`.
+    ///
+    /// # Precision
+    /// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+    /// (query `tri_tri`), enforced by the bound table in `scenes/src/bounds.rs`.
+    ///
+    /// # Performance
+    /// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
     pub fn closest_points_triangle_triangle<'a, T: Real>(
         &self,
         a: impl Into<Prims<'a, T, 3>>,
@@ -443,6 +457,13 @@ impl Engine {
     ///
     /// # Errors
     /// As [`Engine::sqdist_triangle_triangle`].
+    ///
+    /// # Precision
+    /// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+    /// (query `tri_tri_brute`), enforced by the bound table in `scenes/src/bounds.rs`.
+    ///
+    /// # Performance
+    /// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
     pub fn sqdist_triangle_triangle_brute<'a, T: Real>(
         &self,
         a: impl Into<Prims<'a, T, 3>>,
@@ -456,6 +477,13 @@ impl Engine {
     ///
     /// # Errors
     /// As [`Engine::closest_points_triangle_triangle`].
+    ///
+    /// # Precision
+    /// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+    /// (query `tri_tri_brute`), enforced by the bound table in `scenes/src/bounds.rs`.
+    ///
+    /// # Performance
+    /// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
     pub fn closest_points_triangle_triangle_brute<'a, T: Real>(
         &self,
         a: impl Into<Prims<'a, T, 3>>,
@@ -473,6 +501,13 @@ impl Engine {
     ///
     /// # Errors
     /// As [`Engine::sqdist_triangle_triangle`].
+    ///
+    /// # Precision
+    /// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+    /// (query `intersect`), enforced by the bound table in `scenes/src/bounds.rs`.
+    ///
+    /// # Performance
+    /// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
     pub fn intersect_triangle_triangle<'a, T: Real>(
         &self,
         a: impl Into<Prims<'a, T, 3>>,
@@ -489,6 +524,13 @@ impl Engine {
     /// # Errors
     /// [`Error::InvalidMargin`] for a negative or non-finite margin; lengths as
     /// [`Engine::sqdist_triangle_triangle`].
+    ///
+    /// # Precision
+    /// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+    /// (query `tri_tri`), enforced by the bound table in `scenes/src/bounds.rs`.
+    ///
+    /// # Performance
+    /// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
     pub fn within_margin_triangle_triangle<'a, T: Real>(
         &self,
         a: impl Into<Prims<'a, T, 3>>,
@@ -517,6 +559,13 @@ impl Engine {
     ///
     /// # Errors
     /// As [`Engine::closest_points_triangle_triangle`], also for `out_iters`.
+    ///
+    /// # Precision
+    /// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+    /// (query `penalty`), enforced by the bound table in `scenes/src/bounds.rs`.
+    ///
+    /// # Performance
+    /// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
     #[allow(clippy::too_many_arguments)]
     pub fn closest_points_triangle_triangle_penalty<'a, T: Real>(
         &self,
@@ -537,6 +586,13 @@ impl Engine {
     ///
     /// # Errors
     /// As [`Engine::sqdist_triangle_triangle`].
+    ///
+    /// # Precision
+    /// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+    /// (query `seg_seg`), enforced by the bound table in `scenes/src/bounds.rs`.
+    ///
+    /// # Performance
+    /// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
     pub fn sqdist_segment_segment<'a, T: Real>(
         &self,
         a: impl Into<Prims<'a, T, 2>>,
@@ -550,6 +606,13 @@ impl Engine {
     ///
     /// # Errors
     /// As [`Engine::closest_points_triangle_triangle`].
+    ///
+    /// # Precision
+    /// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+    /// (query `seg_seg`), enforced by the bound table in `scenes/src/bounds.rs`.
+    ///
+    /// # Performance
+    /// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
     pub fn closest_points_segment_segment<'a, T: Real>(
         &self,
         a: impl Into<Prims<'a, T, 2>>,
@@ -566,6 +629,13 @@ impl Engine {
     ///
     /// # Errors
     /// As [`Engine::sqdist_triangle_triangle`].
+    ///
+    /// # Precision
+    /// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+    /// (query `point_tri`), enforced by the bound table in `scenes/src/bounds.rs`.
+    ///
+    /// # Performance
+    /// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
     pub fn sqdist_point_triangle<'a, T: Real>(
         &self,
         a: impl Into<Prims<'a, T, 1>>,
@@ -579,6 +649,13 @@ impl Engine {
     ///
     /// # Errors
     /// As [`Engine::closest_points_triangle_triangle`].
+    ///
+    /// # Precision
+    /// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+    /// (query `point_tri`), enforced by the bound table in `scenes/src/bounds.rs`.
+    ///
+    /// # Performance
+    /// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
     pub fn closest_point_point_triangle<'a, T: Real>(
         &self,
         a: impl Into<Prims<'a, T, 1>>,
@@ -659,6 +736,13 @@ pub fn sqdist_triangle_triangle<T: Real>(a: &Triangle<T>, b: &Triangle<T>) -> T 
 /// assert_eq!(c.sqdist, 1.0);
 /// assert_eq!(c.q, [0.25, 0.25, 1.0]);
 /// ```
+///
+/// # Precision
+/// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+/// (query `tri_tri`), enforced by the bound table in `scenes/src/bounds.rs`.
+///
+/// # Performance
+/// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
 pub fn closest_points_triangle_triangle<T: Real>(a: &Triangle<T>, b: &Triangle<T>) -> ClosestPoints<T> {
     single(QueryKind::TriTri, a, b, T::ZERO)
 }
@@ -672,11 +756,25 @@ pub fn closest_points_triangle_triangle<T: Real>(a: &Triangle<T>, b: &Triangle<T
 /// let b = [[0.2f32, 0.2, -1.0], [0.2, 0.2, 1.0], [5.0, 5.0, 0.0]]; // pierces a
 /// assert_eq!(tridist::sqdist_triangle_triangle_brute(&a, &b), 0.0);
 /// ```
+///
+/// # Precision
+/// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+/// (query `tri_tri_brute`), enforced by the bound table in `scenes/src/bounds.rs`.
+///
+/// # Performance
+/// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
 pub fn sqdist_triangle_triangle_brute<T: Real>(a: &Triangle<T>, b: &Triangle<T>) -> T {
     single(QueryKind::TriTriBrute, a, b, T::ZERO).sqdist
 }
 
 /// Brute-force squared distance with closest points.
+///
+/// # Precision
+/// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+/// (query `tri_tri_brute`), enforced by the bound table in `scenes/src/bounds.rs`.
+///
+/// # Performance
+/// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
 pub fn closest_points_triangle_triangle_brute<T: Real>(a: &Triangle<T>, b: &Triangle<T>) -> ClosestPoints<T> {
     single(QueryKind::TriTriBrute, a, b, T::ZERO)
 }
@@ -697,6 +795,13 @@ pub fn closest_points_triangle_triangle_brute<T: Real>(a: &Triangle<T>, b: &Tria
 /// let c = [[0.0f32, 0.0, f32::NAN], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
 /// assert_eq!(tridist::intersect_triangle_triangle(&a, &c), None);
 /// ```
+///
+/// # Precision
+/// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+/// (query `intersect`), enforced by the bound table in `scenes/src/bounds.rs`.
+///
+/// # Performance
+/// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
 pub fn intersect_triangle_triangle<T: Real>(a: &Triangle<T>, b: &Triangle<T>) -> Option<bool> {
     let mut out = [None];
     let r = Engine::scalar().intersect_triangle_triangle(Prims::One(a), Prims::One(b), &mut out);
@@ -721,6 +826,13 @@ pub fn intersect_triangle_triangle<T: Real>(a: &Triangle<T>, b: &Triangle<T>) ->
 /// assert_eq!(tridist::within_margin_triangle_triangle(&a, &b, 3.0), Ok(Some(4.0)));
 /// assert_eq!(tridist::within_margin_triangle_triangle(&a, &b, 1.0), Ok(None));
 /// ```
+///
+/// # Precision
+/// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+/// (query `tri_tri`), enforced by the bound table in `scenes/src/bounds.rs`.
+///
+/// # Performance
+/// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
 pub fn within_margin_triangle_triangle<T: Real>(
     a: &Triangle<T>,
     b: &Triangle<T>,
@@ -740,11 +852,25 @@ pub fn within_margin_triangle_triangle<T: Real>(
 /// let b = [[0.5f32, 1.0, -1.0], [0.5, 1.0, 1.0]];
 /// assert_eq!(tridist::sqdist_segment_segment(&a, &b), 1.0);
 /// ```
+///
+/// # Precision
+/// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+/// (query `seg_seg`), enforced by the bound table in `scenes/src/bounds.rs`.
+///
+/// # Performance
+/// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
 pub fn sqdist_segment_segment<T: Real>(a: &Segment<T>, b: &Segment<T>) -> T {
     single(QueryKind::SegSeg, a, b, T::ZERO).sqdist
 }
 
 /// Squared distance and closest points of two segments.
+///
+/// # Precision
+/// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+/// (query `seg_seg`), enforced by the bound table in `scenes/src/bounds.rs`.
+///
+/// # Performance
+/// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
 pub fn closest_points_segment_segment<T: Real>(a: &Segment<T>, b: &Segment<T>) -> ClosestPoints<T> {
     single(QueryKind::SegSeg, a, b, T::ZERO)
 }
@@ -757,12 +883,26 @@ pub fn closest_points_segment_segment<T: Real>(a: &Segment<T>, b: &Segment<T>) -
 /// let t = [[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
 /// assert_eq!(tridist::sqdist_point_triangle(&[0.25, 0.25, 2.0], &t), 4.0);
 /// ```
+///
+/// # Precision
+/// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+/// (query `point_tri`), enforced by the bound table in `scenes/src/bounds.rs`.
+///
+/// # Performance
+/// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
 pub fn sqdist_point_triangle<T: Real>(p: &Point<T>, t: &Triangle<T>) -> T {
     single(QueryKind::PointTri, &[*p], t, T::ZERO).sqdist
 }
 
 /// Squared distance from a point to a triangle and the closest point on it (`q`; `p` is the
 /// query point).
+///
+/// # Precision
+/// Excess error E per input family, variant and precision: `reports/ACCURACY.md`
+/// (query `point_tri`), enforced by the bound table in `scenes/src/bounds.rs`.
+///
+/// # Performance
+/// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
 pub fn closest_point_point_triangle<T: Real>(p: &Point<T>, t: &Triangle<T>) -> ClosestPoints<T> {
     single(QueryKind::PointTri, &[*p], t, T::ZERO)
 }
