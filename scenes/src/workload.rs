@@ -190,8 +190,10 @@ pub fn check<T: Real>(w: &Workload<T>, q: TQuery, variant: Variant) -> Option<Re
     }
     let (z, s) = fingerprint(q, &out, &flags);
     let (rz, rs) = fingerprint(q, &ref_out, &ref_flags);
-    let tol_zero = n / 100 + 2; // touching decisions may flip within rounding
-    if z.abs_diff(rz) > tol_zero || (s - rs).abs() > 1e-3 * rs.abs().max(1e-300) {
+    // Touching decisions may flip within rounding. The penalty method is an iteration whose
+    // result depends on rounding (FMA, lane grouping): it gets looser tolerances.
+    let (tol_zero, tol_sum) = if q == TQuery::Penalty { (n / 10 + 2, 2e-2) } else { (n / 100 + 2, 1e-3) };
+    if z.abs_diff(rz) > tol_zero || (s - rs).abs() > tol_sum * rs.abs().max(1e-300) {
         return Some(Err(format!("result check failed: zeros {z} vs {rz}, sum {s} vs {rs}")));
     }
     Some(Ok(()))
