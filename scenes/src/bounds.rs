@@ -70,3 +70,42 @@ pub fn bound(query: Query, variant: Variant, precision: &str, family: Family) ->
         _ => DEFAULT,
     }
 }
+
+/// Does a measured row meet its bound? Non-finite output for finite input never does. Written
+/// so that NaN figures fail.
+pub fn meets(s: &crate::eval::Stats, b: &Bound) -> bool {
+    let misclassified = s.contact_misses + s.false_zeros + s.nonfinite;
+    s.max_excess <= b.max_excess
+        && s.max_point_error <= b.max_point_error
+        && misclassified <= b.max_misclassified
+        && s.nonfinite == 0
+}
+
+/// Runs `query` on every available variant over `cases` (whose exact answers are `truth`) and
+/// judges each against its row of the table; returns a reproducible description of every
+/// violation (empty when all variants meet their bounds).
+pub fn violations<T: tridist::Real>(
+    query: Query,
+    family: Family,
+    cases: &[crate::Case<T>],
+    truth: &[crate::eval::Truth],
+) -> Vec<String> {
+    let mut out = Vec::new();
+    for v in Variant::ALL {
+        let Ok(o) = crate::eval::run(query, v, cases) else { continue };
+        let (st, js) = crate::eval::summarise(query, cases, truth, &o);
+        let b = bound(query, v, T::NAME, family);
+        if !meets(&st, &b) {
+            let w = st.worst.unwrap_or(0);
+            out.push(format!(
+                "{} {} {} {}: {st:?} exceeds {b:?}\n{}",
+                query.name(),
+                v.name(),
+                T::NAME,
+                family.name(),
+                crate::eval::describe(query, &cases[w], &truth[w], &o, w, &js[w])
+            ));
+        }
+    }
+    out
+}

@@ -4,8 +4,8 @@
 //! here with a comment naming the root cause.
 
 use tridist::Real;
-use tridist_scenes::bounds::bound;
-use tridist_scenes::eval::{parse_case_line, run, summarise, truth, Query, Variant};
+use tridist_scenes::bounds::violations;
+use tridist_scenes::eval::{parse_case_line, truth, Query};
 use tridist_scenes::Family;
 
 fn replay<T: Real>(file: &str, text: &str) -> usize {
@@ -19,23 +19,8 @@ fn replay<T: Real>(file: &str, text: &str) -> usize {
         let family = Family::parse(case.label.split('/').next().unwrap_or("")).unwrap_or(Family::Random);
         let cases = vec![case];
         for q in Query::ALL {
-            let tr = truth(q, &cases);
-            for v in Variant::ALL {
-                let Ok(out) = run(q, v, &cases) else { continue };
-                let (st, _) = summarise(q, &cases, &tr, &out);
-                let b = bound(q, v, T::NAME, family);
-                let bad = st.contact_misses + st.false_zeros + st.nonfinite;
-                assert!(
-                    st.max_excess <= b.max_excess
-                        && st.max_point_error <= b.max_point_error
-                        && bad <= b.max_misclassified,
-                    "{file}:{}: {} {} {}: {st:?} vs {b:?}",
-                    ln + 1,
-                    q.name(),
-                    v.name(),
-                    T::NAME
-                );
-            }
+            let bad = violations(q, family, &cases, &truth(q, &cases));
+            assert!(bad.is_empty(), "{file}:{}:\n{}", ln + 1, bad.join("\n"));
         }
         n += 1;
     }
