@@ -372,15 +372,20 @@ fn contact_points<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
 #[inline(always)]
 pub(crate) fn tri_tri_brute<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> Res<L> {
     let mut best = min15(s, t);
-    let hit = intersect(s, t);
+    overlap(s, t, intersect(s, t), &mut best);
+    best
+}
+
+/// For the `hit` lanes (overlapping triangles): squared distance 0 and a contact point pair.
+#[inline(always)]
+fn overlap<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], hit: L::M, best: &mut Res<L>) {
     if hit.any() {
-        let mut cp = best;
+        let mut cp = *best;
         contact_points(s, t, &mut cp);
         best.p = V3::select(hit, cp.p, best.p);
         best.q = V3::select(hit, cp.q, best.q);
         best.d = L::select(hit, L::zero(), best.d);
     }
-    best
 }
 
 /// One side of PQP's vertex-face case: if all of `t` lies strictly (beyond rounding) on one side
@@ -479,14 +484,7 @@ pub(crate) fn tri_tri_pqp<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> Res<L> {
             vertex_faces(s, t, &mut vf);
             best = L::select_res(apart, vf, best);
         }
-        let touching = undecided.and(hit);
-        if touching.any() {
-            let mut cp = best;
-            contact_points(s, t, &mut cp);
-            best.p = V3::select(touching, cp.p, best.p);
-            best.q = V3::select(touching, cp.q, best.q);
-            best.d = L::select(touching, L::zero(), best.d);
-        }
+        overlap(s, t, undecided.and(hit), &mut best);
     }
     best
 }
