@@ -164,6 +164,14 @@ fn penalty_sweep<T: Real>(v: Variant, n: usize) -> Vec<(u32, f64, f64, f64, f64)
     out
 }
 
+/// The binned per-case error of triangle-triangle on `family` for one variant, f32 and f64.
+fn stability(family: Family, v: Variant, n: usize) -> [Series; 2] {
+    [
+        Series::line(format!("{} f32", v.name()), binned(&per_case::<f32>(Query::TriTri, family, v, n))),
+        Series::line(format!("{} f64", v.name()), binned(&per_case::<f64>(Query::TriTri, family, v, n))),
+    ]
+}
+
 fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), String> {
     std::fs::write(dir.join(name), text).map_err(|e| format!("{}: {e}", dir.join(name).display()))
 }
@@ -180,31 +188,9 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
     let mut mag = Vec::new();
     let mut off = Vec::new();
     for v in [Variant::Scalar, simd] {
-        mag.push(Series {
-            label: format!("{} f32", v.name()),
-            points: binned(&per_case::<f32>(Query::TriTri, Family::Scale, v, s.cases * 2)),
-            line: true,
-            labels: vec![],
-        });
-        mag.push(Series {
-            label: format!("{} f64", v.name()),
-            points: binned(&per_case::<f64>(Query::TriTri, Family::Scale, v, s.cases * 2)),
-            line: true,
-            labels: vec![],
-        });
+        mag.extend(stability(Family::Scale, v, s.cases * 2));
         prog.step("stability: magnitude");
-        off.push(Series {
-            label: format!("{} f32", v.name()),
-            points: binned(&per_case::<f32>(Query::TriTri, Family::Far, v, s.cases * 2)),
-            line: true,
-            labels: vec![],
-        });
-        off.push(Series {
-            label: format!("{} f64", v.name()),
-            points: binned(&per_case::<f64>(Query::TriTri, Family::Far, v, s.cases * 2)),
-            line: true,
-            labels: vec![],
-        });
+        off.extend(stability(Family::Far, v, s.cases * 2));
         prog.step("stability: offset");
     }
 
@@ -497,18 +483,11 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
                 q / 1e6
             );
         }
-        pen_series.push(Series {
-            label: format!("median E {p}"),
-            points: rows.iter().map(|r| (r.0 as f64, r.1.max(1e-3))).collect(),
-            line: true,
-            labels: vec![],
-        });
-        pen_series.push(Series {
-            label: format!("p99 E {p}"),
-            points: rows.iter().map(|r| (r.0 as f64, r.2.max(1e-3))).collect(),
-            line: true,
-            labels: vec![],
-        });
+        let curve = |e: fn(&(u32, f64, f64, f64, f64)) -> f64| -> Vec<(f64, f64)> {
+            rows.iter().map(|r| (r.0 as f64, e(r).max(1e-3))).collect()
+        };
+        pen_series.push(Series::line(format!("median E {p}"), curve(|r| r.1)));
+        pen_series.push(Series::line(format!("p99 E {p}"), curve(|r| r.2)));
     }
     let penp = Plot {
         title: "Penalty method: error vs iterations (random unit-cube pairs)".into(),

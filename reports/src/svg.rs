@@ -15,6 +15,13 @@ pub struct Series {
     pub labels: Vec<String>,
 }
 
+impl Series {
+    /// A line series without point labels.
+    pub fn line(label: String, points: Vec<(f64, f64)>) -> Series {
+        Series { label, points, line: true, labels: Vec::new() }
+    }
+}
+
 /// A plot.
 pub struct Plot {
     /// Title.
