@@ -564,7 +564,7 @@ pub(crate) fn tri_tri_penalty<L: Lanes>(
     let rho = L::splat(o.rho).mul(scale);
     let reg = L::splat(o.reg).mul(scale);
     let tol2 = L::splat(o.tol).mul(L::splat(o.tol));
-    let mut x = o.start.map(L::splat);
+    let mut x = [L::splat(o.start[0]), L::splat(o.start[1]), L::splat(o.start[2]), L::splat(o.start[3])];
     let mut done = L::zero().lt(L::zero());
     let mut iters = L::zero();
     let z = L::zero();
@@ -584,8 +584,14 @@ pub(crate) fn tri_tri_penalty<L: Lanes>(
             x[3].neg(),
             x[2].add(x[3]).sub(one),
         ];
-        let act = cs.map(|ci| L::select(ci.ge(z), one, z));
-        let pen = cs.map(|ci| ci.max(z));
+        // (No closures or `array::map` here: they are compiled without the entry point's
+        // target features and would call the intrinsics out of line.)
+        let mut act = [z; 6];
+        let mut pen = [z; 6];
+        for k in 0..6 {
+            act[k] = L::select(cs[k].ge(z), one, z);
+            pen[k] = cs[k].max(z);
+        }
         g[0] = g[0].add(rho.mul(pen[2].sub(pen[0])));
         g[1] = g[1].add(rho.mul(pen[2].sub(pen[1])));
         g[2] = g[2].add(rho.mul(pen[5].sub(pen[3])));
@@ -618,19 +624,23 @@ pub(crate) fn tri_tri_penalty<L: Lanes>(
     // onto a + b <= 1; NaN goes back to the start) so that the points are real points of the
     // triangles and the distance an upper bound. Not the exact projection: the gap to the true
     // distance is what the accuracy report measures.
-    let feasible = |u: L, v: L, u0: L, v0: L| {
-        let ok = u.eq(u).and(v.eq(v));
-        let (u, v) = (L::select(ok, u, u0).max(z), L::select(ok, v, v0).max(z));
-        let sum = u.add(v);
-        let over = sum.gt(one);
-        (L::select(over, u.safe_div(sum), u), L::select(over, v.safe_div(sum), v))
-    };
-    let st = o.start.map(L::splat);
-    let (a0, b0) = feasible(x[0], x[1], st[0], st[1]);
-    let (g0, d0) = feasible(x[2], x[3], st[2], st[3]);
+    let (a0, b0) = feasible(x[0], x[1], L::splat(o.start[0]), L::splat(o.start[1]));
+    let (g0, d0) = feasible(x[2], x[3], L::splat(o.start[2]), L::splat(o.start[3]));
     let p = s[0].add_scaled(ba, a0).add_scaled(ca, b0);
     let q = t[0].add_scaled(ed, g0).add_scaled(fd, d0);
     (Res { d: p.sub(q).norm2(), p, q }, iters)
+}
+
+/// Barycentric parameters brought into the triangle: NaN back to the start `(u0, v0)`, clamp
+/// at 0, then scale onto `u + v <= 1`.
+#[inline(always)]
+fn feasible<L: Lanes>(u: L, v: L, u0: L, v0: L) -> (L, L) {
+    let ok = u.eq(u).and(v.eq(v));
+    let u = L::select(ok, u, u0).max(L::zero());
+    let v = L::select(ok, v, v0).max(L::zero());
+    let sum = u.add(v);
+    let over = sum.gt(L::one());
+    (L::select(over, u.safe_div(sum), u), L::select(over, v.safe_div(sum), v))
 }
 
 /// Solves a symmetric positive definite 4x4 system by Gaussian elimination without pivoting,
