@@ -17,6 +17,7 @@
 //!
 //! The error metrics of `ACCURACY.md` live in [`metrics`].
 
+mod filter;
 pub mod metrics;
 pub mod round;
 
@@ -132,9 +133,9 @@ pub fn closest_point_segment(x: &P3, a: &P3, b: &P3) -> P3 {
 
 /// Exact squared distance and closest points of segments `a` and `b`.
 ///
-/// Candidates: the stationary point of the two lines when it lies in both segments, and the four
-/// endpoint-to-segment distances (the minimum of a convex quadratic over a square lies in its
-/// interior or on an edge of it).
+/// Candidates: the stationary point of the two lines when it lies in both segments (then it is
+/// the unique answer), else the four endpoint-to-segment distances (the minimum of a convex
+/// quadratic over a square lies in its interior or on an edge of it).
 pub fn segment_segment(a: &[P3; 2], b: &[P3; 2]) -> Exact {
     let mut best: Option<Exact> = None;
     let d1 = sub(&a[1], &a[0]);
@@ -151,9 +152,11 @@ pub fn segment_segment(a: &[P3; 2], b: &[P3; 2]) -> Exact {
         let t = (Rational::from(&aa * &f) - Rational::from(&bb * &c)) / &denom;
         let unit = |x: &Rational| *x >= 0 && *x <= 1;
         if unit(&s) && unit(&t) {
+            // The quadratic is strictly convex (denom != 0) and its minimiser is feasible: it is
+            // the unique closest pair, so no endpoint candidate can be better or tie elsewhere.
             let p = lerp(&a[0], &d1, &s);
             let q = lerp(&b[0], &d2, &t);
-            keep_min(&mut best, Exact { d2: dist2(&p, &q), p, q });
+            return Exact { d2: dist2(&p, &q), p, q };
         }
     }
     for x in a {
@@ -170,7 +173,8 @@ pub fn segment_segment(a: &[P3; 2], b: &[P3; 2]) -> Exact {
 /// Exact squared distance from `x` to triangle `t` and the closest point (`q`; `p` is `x`).
 ///
 /// Candidates: the orthogonal projection onto the plane when it lies inside the triangle
-/// (barycentric coordinates from the exact 2x2 system), and the three edges. A degenerate
+/// (barycentric coordinates from the exact 2x2 system; then it is the answer), else the three
+/// edges. A degenerate
 /// triangle (zero normal) is the union of its edges.
 pub fn point_triangle(x: &P3, t: &[P3; 3]) -> Exact {
     let mut best: Option<Exact> = None;
@@ -189,8 +193,9 @@ pub fn point_triangle(x: &P3, t: &[P3; 3]) -> Exact {
         let u = (Rational::from(&a11 * &b0) - Rational::from(&a01 * &b1)) / &nn;
         let v = (Rational::from(&a00 * &b1) - Rational::from(&a01 * &b0)) / &nn;
         if u >= 0 && v >= 0 && Rational::from(&u + &v) <= 1 {
+            // The projection lies in the triangle: it is the unique closest point.
             let q = lerp(&lerp(&t[0], &e0, &u), &e1, &v);
-            keep_min(&mut best, Exact { d2: dist2(x, &q), p: x.clone(), q });
+            return Exact { d2: dist2(x, &q), p: x.clone(), q };
         }
     }
     for k in 0..3 {
@@ -247,13 +252,51 @@ fn piercing(a: &[P3; 3], b: &[P3; 3]) -> Option<P3> {
 /// Exact intersection predicate (touching counts): the 15-feature minimum is zero, or an edge of
 /// one triangle properly crosses the other's plane at a point inside it.
 pub fn intersect_triangle_triangle(s: &[P3; 3], t: &[P3; 3]) -> bool {
-    min15(s, t).d2 == 0 || piercing(s, t).is_some() || piercing(t, s).is_some()
+    triangle_triangle(s, t).d2 == 0
 }
 
-/// Exact squared distance and closest points of two triangles (15 features + intersection).
-/// Intersecting pairs give 0 with `p == q` a common point.
+/// Exact squared distance and closest points of two triangles: the first (in a fixed order) of
+/// the 15 feature pairs with the smallest distance, or, when that is positive, a point where an
+/// edge of one triangle pierces the other. Intersecting pairs give 0 with `p == q` a common
+/// point.
+///
+/// # Performance
+/// When every coordinate is exactly an `f64` (always, for input converted from floats), a
+/// certified floating-point filter skips the feature pairs that cannot be closest and the
+/// piercing test for provably disjoint pairs; the result is bit-for-bit the unfiltered one (the
+/// tests check this). Other exact coordinates take the unfiltered path.
 pub fn triangle_triangle(s: &[P3; 3], t: &[P3; 3]) -> Exact {
-    let m = min15(s, t);
+    match (as_floats(s), as_floats(t)) {
+        (Some(sf), Some(tf)) => filter::triangle_triangle(s, t, &sf, &tf),
+        _ => triangle_triangle_unfiltered(s, t),
+    }
+}
+
+/// The coordinates as `f64` when each one is exactly an `f64`.
+fn as_floats(t: &[P3; 3]) -> Option<[[f64; 3]; 3]> {
+    let mut out = [[0.0; 3]; 3];
+    for (o, p) in out.iter_mut().zip(t) {
+        for (o, x) in o.iter_mut().zip(p) {
+            let f = x.to_f64();
+            if *x != f {
+                return None;
+            }
+            *o = f;
+        }
+    }
+    Some(out)
+}
+
+/// The unfiltered computation: all 15 feature pairs exactly, then the piercing test. The same
+/// [`Exact`] as [`triangle_triangle`], slower; public for cross-checks (tests, the
+/// `oracle_filter` fuzz target) and the benchmark of the filter.
+pub fn triangle_triangle_unfiltered(s: &[P3; 3], t: &[P3; 3]) -> Exact {
+    pierce_or(min15(s, t), s, t)
+}
+
+/// `m` (the 15-feature minimum) unless it is positive and an edge of one triangle pierces the
+/// other, which gives distance 0 at the piercing point.
+pub(crate) fn pierce_or(m: Exact, s: &[P3; 3], t: &[P3; 3]) -> Exact {
     if m.d2 == 0 {
         return m;
     }

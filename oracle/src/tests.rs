@@ -267,3 +267,67 @@ proptest! {
         }
     }
 }
+
+// ---- the filter changes nothing ----
+
+/// Coordinates that stress the filter's error bounds: lattice ties, tiny (underflowing
+/// products), huge (overflowing products), far from the origin, and nearly equal values.
+fn stress_coord() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        3 => (-4i32..4).prop_map(|k| k as f64 * 0.5),
+        2 => -1.0f64..1.0,
+        1 => (-1.0f64..1.0).prop_map(|x| x * 1e-160),
+        1 => (-1.0f64..1.0).prop_map(|x| x * 1e-300),
+        1 => (-1.0f64..1.0).prop_map(|x| x * 1e160),
+        1 => (-1.0f64..1.0).prop_map(|x| x * 1e300),
+        1 => (-1.0f64..1.0).prop_map(|x| 1e12 + x),
+        1 => (0i64..4).prop_map(|k| f64::from_bits(1.0f64.to_bits() + k as u64)),
+    ]
+}
+
+fn stress_tri() -> impl Strategy<Value = T3> {
+    let p = || [stress_coord(), stress_coord(), stress_coord()];
+    prop_oneof![
+        6 => [p(), p(), p()],
+        1 => (p(), p()).prop_map(|(a, b)| [a, b, a]),
+        1 => (p(), -1.0f64..1.0).prop_map(|(a, s)| [a, a.map(|c| c + s), a.map(|c| c - 2.0 * s)]),
+    ]
+}
+
+/// The filtered answer, bit for bit the reference one (distance and closest points).
+fn same_as_reference(a: &T3, b: &T3) -> Result<(), TestCaseError> {
+    let (ea, eb) = (exact_points(a).unwrap(), exact_points(b).unwrap());
+    let f = triangle_triangle(&ea, &eb);
+    let r = triangle_triangle_unfiltered(&ea, &eb);
+    prop_assert_eq!(&f, &r, "{:?} {:?}", a, b);
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 1500, ..ProptestConfig::default() })]
+
+    #[test]
+    fn filter_matches_reference(a in stress_tri(), b in stress_tri()) {
+        same_as_reference(&a, &b)?;
+    }
+
+    #[test]
+    fn filter_matches_reference_near_contact(a in tri(), n in [-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0], h in prop_oneof![Just(0.0), Just(1e-300), -1e-9f64..1e-9, -1.0f64..1.0]) {
+        // b: a translated along n by h (parallel, touching, nearly touching, crossing)
+        let b = a.map(|p| [p[0] + n[0] * h, p[1] + n[1] * h, p[2] + n[2] * h]);
+        same_as_reference(&a, &b)?;
+        let rot = [b[1], b[2], b[0]];
+        same_as_reference(&rot, &a)?;
+    }
+}
+
+#[test]
+fn rational_input_that_is_not_a_float_takes_the_reference_path() {
+    let third = Rational::from((1, 3));
+    let a = exact_points(&A).unwrap();
+    let mut b = exact_points(&[[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]).unwrap();
+    b[0][2] = third.clone();
+    assert!(as_floats(&b).is_none());
+    let x = triangle_triangle(&a, &b);
+    assert_eq!(x.d2, Rational::from(&third * &third));
+}
