@@ -1,9 +1,6 @@
-//! Differential fuzzing of the intersect query: every variant and precision against the oracle.
+//! The intersection predicate against the oracle.
+//!
+//! The body lives in `tridist_scenes::fuzzing::intersect`, shared with the stable replay of
+//! `fuzz/regressions/intersect/` by `cargo test`.
 #![no_main]
-use libfuzzer_sys::fuzz_target;
-use tridist_fuzz::{differential, PairInput};
-use tridist_scenes::eval::Query;
-
-fuzz_target!(|input: PairInput| {
-    differential(&input, Query::Intersect);
-});
+libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::intersect(data));

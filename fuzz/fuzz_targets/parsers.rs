@@ -1,21 +1,7 @@
-//! The untrusted-text readers: OFF meshes and case lines. Never panic; what parses is valid.
+//! The untrusted-text readers (OFF meshes, case lines): never panic; what parses is valid (face
+//! indices in range; case lines round-trip).
+//!
+//! The body lives in `tridist_scenes::fuzzing::parsers`, shared with the stable replay of
+//! `fuzz/regressions/parsers/` by `cargo test`.
 #![no_main]
-use libfuzzer_sys::fuzz_target;
-use tridist_scenes::eval::parse_case_line;
-use tridist_scenes::mesh::Mesh;
-
-fuzz_target!(|text: &str| {
-    if let Ok(m) = Mesh::parse_off(text) {
-        for t in &m.triangles {
-            assert!(t.iter().all(|&i| (i as usize) < m.vertices.len()));
-        }
-        if !m.triangles.is_empty() {
-            let tris: Vec<[[f64; 3]; 3]> = (0..m.triangles.len()).map(|i| m.triangle(i)).collect();
-            let _ = tridist::TriangleBatch::from_slice(&tris);
-        }
-    }
-    for line in text.lines() {
-        let _ = parse_case_line::<f32>(line);
-        let _ = parse_case_line::<f64>(line);
-    }
-});
+libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::parsers(data));

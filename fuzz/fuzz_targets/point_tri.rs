@@ -1,9 +1,6 @@
-//! Differential fuzzing of the point_tri query: every variant and precision against the oracle.
+//! Point-triangle distance against the oracle.
+//!
+//! The body lives in `tridist_scenes::fuzzing::point_tri`, shared with the stable replay of
+//! `fuzz/regressions/point_tri/` by `cargo test`.
 #![no_main]
-use libfuzzer_sys::fuzz_target;
-use tridist_fuzz::{differential, PairInput};
-use tridist_scenes::eval::Query;
-
-fuzz_target!(|input: PairInput| {
-    differential(&input, Query::PointTri);
-});
+libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::point_tri(data));

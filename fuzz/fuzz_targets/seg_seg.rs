@@ -1,9 +1,6 @@
-//! Differential fuzzing of the seg_seg query: every variant and precision against the oracle.
+//! Segment-segment distance against the oracle.
+//!
+//! The body lives in `tridist_scenes::fuzzing::seg_seg`, shared with the stable replay of
+//! `fuzz/regressions/seg_seg/` by `cargo test`.
 #![no_main]
-use libfuzzer_sys::fuzz_target;
-use tridist_fuzz::{differential, PairInput};
-use tridist_scenes::eval::Query;
-
-fuzz_target!(|input: PairInput| {
-    differential(&input, Query::SegSeg);
-});
+libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::seg_seg(data));

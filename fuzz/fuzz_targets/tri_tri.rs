@@ -1,10 +1,6 @@
-//! Differential fuzzing of the tri_tri query: every variant and precision against the oracle.
+//! Triangle distance (PQP and brute force), every variant and precision, against the oracle.
+//!
+//! The body lives in `tridist_scenes::fuzzing::tri_tri`, shared with the stable replay of
+//! `fuzz/regressions/tri_tri/` by `cargo test`.
 #![no_main]
-use libfuzzer_sys::fuzz_target;
-use tridist_fuzz::{differential, PairInput};
-use tridist_scenes::eval::Query;
-
-fuzz_target!(|input: PairInput| {
-    differential(&input, Query::TriTri);
-    differential(&input, Query::TriTriBrute);
-});
+libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::tri_tri(data));

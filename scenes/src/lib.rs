@@ -6,11 +6,14 @@
 //! * [`mesh`]: the OFF loader and the meshes carried in `data/meshes`;
 //! * [`eval`]: run a kernel variant, judge it against the exact oracle, summarise;
 //! * [`bounds`]: the declared bound table, one row per (query, variant, precision, family group),
-//!   each with its reason.
+//!   each with its reason;
+//! * [`fuzzing`]: the fuzz targets' bodies, run by libFuzzer (`fuzz/`) and replayed on stable
+//!   by `cargo test` (committed findings in `fuzz/regressions/`).
 
 pub mod bounds;
 pub mod eval;
 pub mod families;
+pub mod fuzzing;
 pub mod mesh;
 pub mod protocol;
 pub mod rng;

@@ -1,0 +1,379 @@
+//! The fuzz targets' bodies, written once and run two ways: by libFuzzer (`fuzz/`, nightly,
+//! `cargo +nightly fuzz run <name>`) and by a plain `cargo test` on stable, which replays every
+//! committed finding in `fuzz/regressions/<name>/` and a seed corpus from the family generators
+//! (`scenes/tests/fuzz_regressions.rs`). A target takes the raw input bytes and panics, with a
+//! reproducible description, when it finds a violation.
+//!
+//! # Input format of the pair targets
+//! * `b'F'`, a family byte, an 8-byte little-endian seed, then the target's extra bytes: the
+//!   pair is [`generate`]d by that family (every family of the differential suite, so seed
+//!   corpora come from the same generators; see [`seed_inputs`]).
+//! * anything else: a [`PairInput`] decoded by `arbitrary` (a mode builds shared vertices,
+//!   coplanar, parallel, touching or nearly parallel pairs, with ulp nudges, scale and offset),
+//!   then the extra bytes.
+
+use arbitrary::{Arbitrary, Unstructured};
+use tridist::{Engine, Isa, Real, Triangle, TriangleBatch};
+
+use crate::bounds::violations;
+use crate::eval::{case_line, parse_case_line, truth, Query};
+use crate::families::{generate, ulp_step, Case, Family};
+use crate::mesh::Mesh;
+
+/// One fuzz target: its name (the `fuzz/fuzz_targets/<name>.rs` binary and the
+/// `fuzz/regressions/<name>/` folder) and its body.
+#[derive(Clone, Copy)]
+pub struct Target {
+    /// Name of the target.
+    pub name: &'static str,
+    /// Runs one input; panics on a violation.
+    pub run: fn(&[u8]),
+}
+
+/// Every target.
+pub const TARGETS: [Target; 8] = [
+    Target { name: "tri_tri", run: tri_tri },
+    Target { name: "seg_seg", run: seg_seg },
+    Target { name: "point_tri", run: point_tri },
+    Target { name: "intersect", run: intersect },
+    Target { name: "within", run: within },
+    Target { name: "raw_bits", run: raw_bits },
+    Target { name: "parsers", run: parsers },
+    Target { name: "oracle_filter", run: oracle_filter },
+];
+
+/// First byte of a family-generated pair input.
+pub const FAMILY_TAG: u8 = b'F';
+/// First byte of a raw-coordinates input of `oracle_filter`.
+pub const RAW_TAG: u8 = b'R';
+
+/// Fuzzer-chosen construction of a triangle pair.
+#[derive(Arbitrary, Debug, Clone)]
+pub struct PairInput {
+    mode: u8,
+    coords: [i16; 18],
+    picks: [u8; 4],
+    nudges: [i8; 4],
+    scale_exp: i8,
+    offset: i16,
+}
+
+/// Where a pair comes from.
+#[derive(Debug, Clone)]
+pub enum PairSource {
+    /// Case `0` of `generate(family, seed, 1)`.
+    Family(Family, u64),
+    /// A structured construction.
+    Built(PairInput),
+}
+
+/// Splits an input into its pair and the target's extra bytes (`None`: not decodable, skip).
+pub fn pair_source(data: &[u8]) -> Option<(PairSource, Unstructured<'_>)> {
+    if data.len() >= 10 && data[0] == FAMILY_TAG {
+        let family = Family::ALL[data[1] as usize % Family::ALL.len()];
+        let seed = u64::from_le_bytes(data[2..10].try_into().ok()?);
+        return Some((PairSource::Family(family, seed), Unstructured::new(&data[10..])));
+    }
+    let mut u = Unstructured::new(data);
+    let p = PairInput::arbitrary(&mut u).ok()?;
+    Some((PairSource::Built(p), u))
+}
+
+/// The family whose bound row judges a construction mode.
+fn family_of(mode: u8) -> Family {
+    match mode % 8 {
+        1 | 2 | 5 => Family::Touching,
+        3 | 4 => Family::Parallel,
+        6 => Family::NearParallel,
+        7 => Family::Degenerate,
+        _ => Family::Random,
+    }
+}
+
+impl PairSource {
+    /// The pair in precision T and the family whose bounds judge it (`None` when scaling left
+    /// the finite range).
+    pub fn build<T: Real>(&self) -> Option<(Case<T>, Family)> {
+        match self {
+            PairSource::Family(f, seed) => generate::<T>(*f, *seed, 1).pop().map(|c| (c, *f)),
+            PairSource::Built(p) => p.build(),
+        }
+    }
+}
+
+impl PairInput {
+    /// Builds the pair in precision T (None when scaling left the finite range).
+    pub fn build<T: Real>(&self) -> Option<(Case<T>, Family)> {
+        let c = |k: usize| self.coords[k] as f64 / 256.0;
+        let p = |k: usize| [c(3 * k), c(3 * k + 1), c(3 * k + 2)];
+        let mut a = [p(0), p(1), p(2)];
+        let mut b = [p(3), p(4), p(5)];
+        let pick = |k: usize| self.picks[k] as usize % 3;
+        match self.mode % 8 {
+            1 => b[0] = a[pick(0)], // shared vertex
+            2 => {
+                b[0] = a[pick(0)]; // shared edge
+                b[1] = a[(pick(0) + 1) % 3];
+            }
+            3 => {
+                for v in a.iter_mut().chain(b.iter_mut()) {
+                    // coplanar
+                    v[2] = c(0);
+                }
+            }
+            4 => b = a.map(|v| [v[0] + c(9), v[1] + c(10), v[2] + c(11)]), // parallel translate
+            5 => {
+                // vertex of b on a's face (dyadic barycentrics: exact in f64)
+                let (u, w) = ((self.picks[1] % 64) as f64 / 256.0, (self.picks[2] % 64) as f64 / 256.0);
+                b[0] = [0, 1, 2].map(|k| a[0][k] + u * (a[1][k] - a[0][k]) + w * (a[2][k] - a[0][k]));
+            }
+            6 => {
+                // b's first edge nearly parallel to a's first edge
+                let d = [0, 1, 2].map(|k| a[1][k] - a[0][k]);
+                b[1] = [0, 1, 2].map(|k| b[0][k] + d[k] + c(12 + k) * 1e-6);
+            }
+            7 => a[2] = a[pick(1)], // degenerate (repeated vertex)
+            _ => {}
+        }
+        let f = 2f64.powi((self.scale_exp as i32).clamp(-60, 60));
+        let off = self.offset as f64 * 64.0;
+        let conv = |t: &[[f64; 3]; 3]| -> Triangle<T> { t.map(|v| v.map(|x| T::from_f64(x * f + off))) };
+        let (mut ta, mut tb) = (conv(&a), conv(&b));
+        for k in 0..4 {
+            let idx = self.picks[k] as usize % 18;
+            let t = if idx < 9 { &mut ta } else { &mut tb };
+            let (v, cc) = ((idx % 9) / 3, idx % 3);
+            t[v][cc] = ulp_step(t[v][cc], self.nudges[k] as i32 % 8);
+        }
+        let finite = ta.iter().chain(tb.iter()).flatten().all(|x| x.is_finite());
+        finite.then(|| {
+            let family = family_of(self.mode);
+            let label = format!("{}/fuzz/mode{}", family.name(), self.mode % 8);
+            (Case { label, a: ta, b: tb }, family)
+        })
+    }
+}
+
+/// Runs `query` on every available variant for the case and panics, with a reproducible
+/// description, when the bound table is exceeded or a contact is misclassified.
+pub fn check<T: Real>(query: Query, case: Case<T>, family: Family) {
+    let cases = vec![case];
+    let bad = violations(query, family, &cases, &truth(query, &cases));
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// The differential check of `queries` in both precisions.
+fn differential(data: &[u8], queries: &[Query]) {
+    let Some((src, _)) = pair_source(data) else { return };
+    for &q in queries {
+        if let Some((c, f)) = src.build::<f32>() {
+            check(q, c, f);
+        }
+        if let Some((c, f)) = src.build::<f64>() {
+            check(q, c, f);
+        }
+    }
+}
+
+/// Triangle distance (PQP and brute force), every variant and precision, against the oracle.
+pub fn tri_tri(data: &[u8]) {
+    differential(data, &[Query::TriTri, Query::TriTriBrute]);
+}
+
+/// Segment-segment distance against the oracle.
+pub fn seg_seg(data: &[u8]) {
+    differential(data, &[Query::SegSeg]);
+}
+
+/// Point-triangle distance against the oracle.
+pub fn point_tri(data: &[u8]) {
+    differential(data, &[Query::PointTri]);
+}
+
+/// The intersection predicate against the oracle.
+pub fn intersect(data: &[u8]) {
+    differential(data, &[Query::Intersect]);
+}
+
+/// Within-margin must agree exactly with the full query of the same variant (squared distance
+/// when within the margin, +inf beyond), for every variant; the margin is the extra `u16 / 4096`.
+pub fn within(data: &[u8]) {
+    let Some((src, mut rest)) = pair_source(data) else { return };
+    let margin = f64::from(u16::arbitrary(&mut rest).unwrap_or(0)) / 4096.0;
+    let Some((c, _)) = src.build::<f64>() else { return };
+    for isa in Isa::ALL {
+        let Ok(e) = Engine::new(isa) else { continue };
+        let (mut full, mut w) = ([0.0f64], [0.0f64]);
+        e.sqdist_triangle_triangle(&c.a, &c.b, &mut full).unwrap();
+        e.within_margin_triangle_triangle(&c.a, &c.b, margin, &mut w).unwrap();
+        let expected = if full[0] <= margin * margin { full[0] } else { f64::INFINITY };
+        assert_eq!(
+            w[0].to_bits(),
+            expected.to_bits(),
+            "{isa}: within {} full {} margin {margin} {c:?}",
+            w[0],
+            full[0]
+        );
+    }
+}
+
+fn raw_bits_in<T: Real>(words: &[u64]) {
+    let coords: Vec<T> = words.iter().map(|&w| T::from_bits_u64(w)).collect();
+    let tris: Vec<[[T; 3]; 3]> = coords
+        .chunks_exact(9)
+        .map(|c| [[c[0], c[1], c[2]], [c[3], c[4], c[5]], [c[6], c[7], c[8]]])
+        .collect();
+    let n = tris.len() / 2;
+    let (a, b) = (&tris[..n], &tris[n..2 * n]);
+    let (ba, bb) = (TriangleBatch::from_slice(a), TriangleBatch::from_slice(b));
+    for isa in Isa::ALL {
+        let Ok(e) = Engine::new(isa) else { continue };
+        let mut d = vec![T::ZERO; n];
+        let (mut p, mut q) = (vec![[T::ZERO; 3]; n], vec![[T::ZERO; 3]; n]);
+        let mut f = vec![None; n];
+        e.closest_points_triangle_triangle(&ba, &bb, &mut d, &mut p, &mut q).unwrap();
+        e.intersect_triangle_triangle(&ba, &bb, &mut f).unwrap();
+        let mut db = vec![T::ZERO; n];
+        e.sqdist_triangle_triangle_brute(a, b, &mut db).unwrap();
+        for i in 0..n {
+            let finite = a[i].iter().chain(b[i].iter()).flatten().all(|x| x.is_finite());
+            if finite {
+                assert!(
+                    d[i] >= T::ZERO && db[i] >= T::ZERO,
+                    "{isa} pair {i}: {} {} for {:?} {:?}",
+                    d[i],
+                    db[i],
+                    a[i],
+                    b[i]
+                );
+                assert!(f[i].is_some(), "{isa} pair {i}: finite input, no verdict");
+                if d[i].is_finite() {
+                    assert!(
+                        p[i].iter().chain(q[i].iter()).all(|x| x.is_finite()),
+                        "{isa}: non-finite points"
+                    );
+                }
+            } else {
+                assert!(
+                    d[i].to_f64().is_nan() && db[i].to_f64().is_nan() && f[i].is_none(),
+                    "{isa} pair {i}: non-finite input must give NaN/None"
+                );
+            }
+        }
+    }
+}
+
+/// Arbitrary f32/f64 bit patterns (NaN, inf, subnormals, huge values) through the batch API of
+/// every variant: no panic, no UB (run it with the address sanitizer), and the documented
+/// outcome: NaN (None for intersection) exactly for pairs with a non-finite coordinate, otherwise
+/// a non-negative squared distance or +inf (overflow) with finite closest points.
+pub fn raw_bits(data: &[u8]) {
+    let w64: Vec<u64> = data
+        .chunks_exact(8)
+        .map(|c| u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
+        .collect();
+    raw_bits_in::<f64>(&w64);
+    let w32: Vec<u64> =
+        data.chunks_exact(4).map(|c| u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]]))).collect();
+    raw_bits_in::<f32>(&w32);
+}
+
+/// The untrusted-text readers (OFF meshes, case lines): never panic; what parses is valid (face
+/// indices in range; case lines round-trip).
+pub fn parsers(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else { return };
+    if let Ok(m) = Mesh::parse_off(text) {
+        for t in &m.triangles {
+            assert!(t.iter().all(|&i| (i as usize) < m.vertices.len()), "face index out of range accepted");
+        }
+        if !m.triangles.is_empty() {
+            let tris: Vec<[[f64; 3]; 3]> = (0..m.triangles.len()).map(|i| m.triangle(i)).collect();
+            let _ = TriangleBatch::from_slice(&tris);
+        }
+    }
+    for line in text.lines() {
+        // what parses prints back to a line that parses to the same values (any NaN is NaN)
+        if let Ok(c) = parse_case_line::<f64>(line) {
+            let again = parse_case_line::<f64>(&case_line(&c)).expect("a printed case parses");
+            let bits = |c: &Case<f64>| {
+                let b = |x: &f64| if x.is_nan() { u64::MAX } else { x.to_bits() };
+                c.a.iter().chain(c.b.iter()).flatten().map(b).collect::<Vec<_>>()
+            };
+            assert!(
+                again.label == c.label && bits(&again) == bits(&c),
+                "case line does not round-trip: {line}"
+            );
+        }
+        let _ = parse_case_line::<f32>(line);
+    }
+}
+
+/// The oracle's floating-point filter against its unfiltered computation: the same exact
+/// distance and closest points, bit for bit. Pairs are structured (or family) pairs rescaled by
+/// `2^e` across the whole f64 exponent range (the extra `i16`), or, after [`RAW_TAG`], 18 raw
+/// finite bit patterns (non-finite ones become 0).
+pub fn oracle_filter(data: &[u8]) {
+    let (a, b) = if data.len() > 144 && data[0] == RAW_TAG {
+        let x = |k: usize| {
+            let w = u64::from_le_bytes(data[1 + 8 * k..9 + 8 * k].try_into().unwrap_or([0; 8]));
+            Some(f64::from_bits(w)).filter(|x| x.is_finite()).unwrap_or(0.0)
+        };
+        let p = |k: usize| [x(3 * k), x(3 * k + 1), x(3 * k + 2)];
+        ([p(0), p(1), p(2)], [p(3), p(4), p(5)])
+    } else {
+        let Some((src, mut rest)) = pair_source(data) else { return };
+        let Some((c, _)) = src.build::<f64>() else { return };
+        let f = 2f64.powi(i32::from(i16::arbitrary(&mut rest).unwrap_or(0) % 1100));
+        (c.a.map(|v| v.map(|x| x * f)), c.b.map(|v| v.map(|x| x * f)))
+    };
+    if !a.iter().chain(b.iter()).flatten().all(|x| x.is_finite()) {
+        return;
+    }
+    let exact =
+        |t: &[[f64; 3]; 3]| tridist_oracle::exact_points(t).unwrap_or_else(|_| unreachable!("finite"));
+    let (ea, eb) = (exact(&a), exact(&b));
+    for (x, y) in [(&ea, &eb), (&eb, &ea)] {
+        let f = tridist_oracle::triangle_triangle(x, y);
+        let u = tridist_oracle::triangle_triangle_unfiltered(x, y);
+        assert_eq!(f, u, "filtered and unfiltered oracle differ on {a:?} {b:?}");
+    }
+}
+
+/// Seed inputs from the family generators: `per_family` family-mode inputs for every family,
+/// with `extra` bytes appended (a margin, an exponent).
+pub fn seed_inputs(per_family: u64, extra: &[u8]) -> Vec<Vec<u8>> {
+    let mut out = Vec::new();
+    for (i, _) in Family::ALL.iter().enumerate() {
+        for k in 0..per_family {
+            let mut v = vec![FAMILY_TAG, i as u8];
+            v.extend_from_slice(&(crate::DEFAULT_SEED + k).to_le_bytes());
+            v.extend_from_slice(extra);
+            out.push(v);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn family_inputs_decode_to_their_family() {
+        for (i, f) in Family::ALL.iter().enumerate() {
+            let v = &seed_inputs(1, &[])[i];
+            let Some((PairSource::Family(g, seed), _)) = pair_source(v) else { panic!("{f:?} not decoded") };
+            assert_eq!((*f, seed), (g, crate::DEFAULT_SEED));
+            let (c, fam) = PairSource::Family(g, seed).build::<f64>().expect("families are finite in f64");
+            assert_eq!((fam, c.label.split('/').next()), (*f, Some(f.name())));
+        }
+    }
+
+    #[test]
+    fn structured_inputs_decode() {
+        let data: Vec<u8> = (0..80u8).collect();
+        let (src, _) = pair_source(&data).expect("80 bytes decode");
+        assert!(matches!(src, PairSource::Built(_)));
+        assert!(src.build::<f32>().is_some());
+    }
+}

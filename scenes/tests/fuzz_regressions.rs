@@ -1,0 +1,95 @@
+//! Stable replay of the fuzz targets: every committed finding in `fuzz/regressions/<target>/`
+//! (raw libFuzzer inputs, decoded exactly as the fuzzer decodes them: the bodies are shared in
+//! `tridist_scenes::fuzzing`) and a seed corpus from the family generators, through the same
+//! target bodies the fuzzer runs. A failure names the input file.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+
+use tridist_scenes::fuzzing::{seed_inputs, Target, TARGETS};
+
+fn regressions_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/regressions")
+}
+
+/// Runs `inputs` through `target`; returns one line per failing input.
+fn replay(target: &Target, inputs: &[(String, Vec<u8>)]) -> Vec<String> {
+    let mut failed = Vec::new();
+    for (name, data) in inputs {
+        if let Err(e) = catch_unwind(AssertUnwindSafe(|| (target.run)(data))) {
+            let msg = e
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default();
+            failed.push(format!("{} {name}: {msg}", target.name));
+        }
+    }
+    failed
+}
+
+fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let Ok(rd) = std::fs::read_dir(dir) else { return Vec::new() };
+    let mut v: Vec<(String, Vec<u8>)> = rd
+        .filter_map(|e| e.ok())
+        .map(|e| e.path())
+        .filter(|p| p.is_file() && p.extension().is_none_or(|x| x != "md"))
+        .map(|p| (p.display().to_string(), std::fs::read(&p).expect("readable regression file")))
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn committed_findings_replay_clean() {
+    let dir = regressions_dir();
+    assert!(dir.is_dir(), "{} is part of the repository", dir.display());
+    let mut failed = Vec::new();
+    let mut n = 0;
+    for t in &TARGETS {
+        let inputs = files(&dir.join(t.name));
+        n += inputs.len();
+        failed.extend(replay(t, &inputs));
+    }
+    assert!(
+        failed.is_empty(),
+        "{} of {n} committed fuzz findings fail again:\n{}",
+        failed.len(),
+        failed.join("\n")
+    );
+    // every folder names a target
+    for e in std::fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()) {
+        if e.path().is_dir() {
+            let name = e.file_name().to_string_lossy().to_string();
+            assert!(TARGETS.iter().any(|t| t.name == name), "fuzz/regressions/{name} is not a target");
+        }
+    }
+}
+
+#[test]
+fn family_seed_corpus_passes_every_pair_target() {
+    let inputs: Vec<(String, Vec<u8>)> = seed_inputs(2, &[0x40, 0x01])
+        .into_iter()
+        .enumerate()
+        .map(|(i, v)| (format!("seed {i}"), v))
+        .collect();
+    let mut failed = Vec::new();
+    for t in TARGETS.iter().filter(|t| !matches!(t.name, "raw_bits" | "parsers")) {
+        failed.extend(replay(t, &inputs));
+    }
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
+
+#[test]
+fn replay_reports_a_failing_input() {
+    fn picky(data: &[u8]) {
+        assert!(data.first() != Some(&7), "seven");
+    }
+    let t = Target { name: "picky", run: picky };
+    let inputs = vec![("ok".to_string(), vec![1]), ("bad".to_string(), vec![7])];
+    let prev = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let failed = replay(&t, &inputs);
+    std::panic::set_hook(prev);
+    assert_eq!(failed, vec!["picky bad: seven".to_string()]);
+}
