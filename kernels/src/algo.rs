@@ -130,13 +130,37 @@ fn point_segment<L: Lanes>(x: V3<L>, a: V3<L>, d: V3<L>) -> V3<L> {
     a.add_scaled(d, t)
 }
 
-/// Is the triangle with edges `ab`, `ac` degenerate (its normal is below the rounding noise of
-/// the cross product)? Relative test.
+/// The two edges of a triangle that meet opposite its longest edge (`e` = [`edges`]), in
+/// counter-clockwise order: the best-conditioned pair for its normal. At a needle's tip both
+/// edges are long and nearly parallel, and their own rounding swamps the cross product (fuzzing
+/// found a point 15 u S beside a needle of tip angle 1e-16 reported touching it).
 #[inline(always)]
-pub(crate) fn degenerate<L: Lanes>(ab: V3<L>, ac: V3<L>) -> L::M {
-    let n = ab.cross(ac);
+fn normal_pair<L: Lanes>(e: &[V3<L>; 3]) -> (V3<L>, V3<L>) {
+    let (l0, l1, l2) = (e[0].norm2(), e[1].norm2(), e[2].norm2());
+    let long0 = l0.ge(l1).and(l0.ge(l2));
+    let long1 = l1.ge(l2).andnot(long0);
+    // e0 x e1 = e1 x e2 = e2 x e0 in exact arithmetic.
+    let u = V3::select(long0, e[1], V3::select(long1, e[2], e[0]));
+    let v = V3::select(long0, e[2], V3::select(long1, e[0], e[1]));
+    (u, v)
+}
+
+/// The triangle's normal (unnormalised, orientation of `e0 x e1`), accurately rounded from the
+/// best-conditioned edge pair.
+#[inline(always)]
+pub(crate) fn normal<L: Lanes>(e: &[V3<L>; 3]) -> V3<L> {
+    let (u, v) = normal_pair(e);
+    u.cross_accurate(v)
+}
+
+/// Is the triangle with edges `e` ([`edges`]) degenerate (its normal is below the rounding
+/// noise of the cross product of its best-conditioned edge pair)? Relative test.
+#[inline(always)]
+pub(crate) fn degenerate<L: Lanes>(e: &[V3<L>; 3]) -> L::M {
+    let (a, b) = normal_pair(e);
+    let n = a.cross(b);
     let tol = u::<L>().mul(c(16.0));
-    let bound = ab.norm2().mul(ac.norm2()).mul(tol).mul(tol);
+    let bound = a.norm2().mul(b.norm2()).mul(tol).mul(tol);
     n.norm2().le(bound)
 }
 
@@ -165,7 +189,8 @@ pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) 
     // products with accurately rounded cross products: the dot-product form (d1*d4 - d3*d2)
     // misclassifies points inside thin triangles (found by fuzzing: a point on a sliver came
     // back 490 u S away).
-    let n = ab.cross_accurate(ac);
+    let tri_edges = [ab, cv.sub(b), a.sub(cv)];
+    let n = normal(&tri_edges);
     let (xa, xb, xc) = (a.sub(x), b.sub(x), cv.sub(x));
     let vc = n.dot(xa.cross_accurate(xb));
     let m_ab = vc.le(z).and(d1.ge(z)).and(d3.le(z)).andnot(done);
@@ -204,7 +229,7 @@ pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) 
         let proj = x.sub(n.scale(h));
         q = V3::select(done, q, proj);
     }
-    let deg = degenerate(ab, ac);
+    let deg = degenerate(&tri_edges);
     if deg.any() {
         // A degenerate triangle is the union of its edges.
         let mut best = point_segment(x, a, ab);
@@ -268,8 +293,8 @@ pub(crate) fn intersect<L: Lanes>(s_in: &[V3<L>; 3], t_in: &[V3<L>; 3]) -> L::M 
     let t = [t_in[0].sub(o), t_in[1].sub(o), t_in[2].sub(o)];
     let e = edges(&s);
     let f = edges(&t);
-    let n = e[0].cross(e[1]);
-    let m = f[0].cross(f[1]);
+    let n = normal(&e);
+    let m = normal(&f);
     let mut sep = separated_on(n, &s, &t).or(separated_on(m, &s, &t));
     if sep.all() {
         return sep.not();
@@ -286,8 +311,8 @@ pub(crate) fn intersect<L: Lanes>(s_in: &[V3<L>; 3], t_in: &[V3<L>; 3]) -> L::M 
         sep = sep.or(separated_on(e[k].cross(n), &s, &t));
         sep = sep.or(separated_on(f[k].cross(m), &s, &t));
     }
-    let deg_s = degenerate(e[0], s[2].sub(s[0]));
-    let deg_t = degenerate(f[0], t[2].sub(t[0]));
+    let deg_s = degenerate(&e);
+    let deg_t = degenerate(&f);
     if deg_s.or(deg_t).andnot(sep).any() {
         // A degenerate triangle has no in-plane edge normals of its own (n x e = 0): when it
         // lies in the other's plane, the separating line can be normal to its edges within the
@@ -344,7 +369,7 @@ fn vertex_faces<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
 #[inline(always)]
 fn pierce<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3], flip: bool, best: &mut Res<L>) {
     let ea = edges(a);
-    let n = b[1].sub(b[0]).cross_accurate(b[2].sub(b[0]));
+    let n = normal(&edges(b));
     for k in 0..3 {
         let h0 = a[k].sub(b[0]).dot(n);
         let h1 = a[(k + 1) % 3].sub(b[0]).dot(n);

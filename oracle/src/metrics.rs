@@ -89,13 +89,41 @@ pub fn floor_error(exact: &Rational, s: f64, prec: Precision) -> f64 {
     scaled_error(r, exact, s, prec)
 }
 
+/// The largest finite value of the precision.
+fn largest(prec: Precision) -> f64 {
+    if prec.name == "f32" {
+        f32::MAX as f64
+    } else {
+        f64::MAX
+    }
+}
+
+/// Is `+inf` a documented answer: does some distance within `reach * u * S` of the exact one
+/// square beyond the precision's largest finite value? That covers `D*` itself above it (even
+/// when it rounds down to it) and answers within the error bound `reach` (the E target) whose
+/// square overflows. The criterion is evaluated in `f64` (its edge is not exactness-critical).
+pub fn overflow_allowed(exact: &Rational, s: f64, prec: Precision, reach: f64) -> bool {
+    if prec.round(exact).is_infinite() {
+        return true;
+    }
+    let d = exact.to_f64().sqrt() + reach * prec.u * s;
+    d * d > largest(prec)
+}
+
+/// The reach of [`overflow_allowed`] that [`excess`] uses: the E target of ACCURACY.md.
+pub const OVERFLOW_REACH: f64 = 8.0;
+
 /// `max(0, E - floor E)`: the error the kernel adds beyond rounding its answer. When the exact
 /// squared distance overflows the precision, `+inf` is the right answer (excess 0) and any
-/// finite answer is an infinite excess.
+/// finite answer is an infinite excess; `+inf` is also excess 0 where an answer within the E
+/// target would overflow ([`overflow_allowed`]).
 pub fn excess(d2_hat: f64, exact: &Rational, s: f64, prec: Precision) -> f64 {
     let r = prec.round(exact);
     if r.is_infinite() {
         return if d2_hat == f64::INFINITY { 0.0 } else { f64::INFINITY };
+    }
+    if d2_hat == f64::INFINITY && overflow_allowed(exact, s, prec, OVERFLOW_REACH) {
+        return 0.0;
     }
     let e = scaled_error(d2_hat, exact, s, prec);
     (e - floor_error(exact, s, prec)).max(0.0)

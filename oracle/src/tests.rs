@@ -331,3 +331,28 @@ fn rational_input_that_is_not_a_float_takes_the_reference_path() {
     let x = triangle_triangle(&a, &b);
     assert_eq!(x.d2, Rational::from(&third * &third));
 }
+
+#[test]
+fn overflow_is_allowed_just_above_the_largest_finite_value() {
+    // Found by fuzzing (point_tri, f32): D* a hair above f32::MAX rounds down to it, and the
+    // kernel's +inf is a documented answer.
+    let d = Rational::from((
+        "47115985318142507038151203899944013361106124800".parse::<rug::Integer>().unwrap(),
+        rug::Integer::from(138461441),
+    ));
+    let max = q(f32::MAX as f64);
+    assert!(d > max && round::to_f32(&d) == f32::MAX);
+    let s = 7.493539419981768e19;
+    assert!(metrics::overflow_allowed(&d, s, metrics::F32, metrics::OVERFLOW_REACH));
+    assert_eq!(metrics::excess(f64::INFINITY, &d, s, metrics::F32), 0.0);
+    assert_eq!(metrics::excess(f32::MAX as f64, &d, s, metrics::F32), 0.0);
+    // well below the edge +inf is still a defect; just below it, within 8 u S, it is allowed
+    let below = q(1e38);
+    assert!(!metrics::overflow_allowed(&below, s, metrics::F32, metrics::OVERFLOW_REACH));
+    assert_eq!(metrics::excess(f64::INFINITY, &below, s, metrics::F32), f64::INFINITY);
+    let dmax = (f32::MAX as f64).sqrt();
+    let near = q(dmax - 4.0 * metrics::F32.u * s) * q(dmax - 4.0 * metrics::F32.u * s);
+    assert!(near < max && metrics::overflow_allowed(&near, s, metrics::F32, metrics::OVERFLOW_REACH));
+    let far = q(dmax - 16.0 * metrics::F32.u * s) * q(dmax - 16.0 * metrics::F32.u * s);
+    assert!(!metrics::overflow_allowed(&far, s, metrics::F32, metrics::OVERFLOW_REACH));
+}
