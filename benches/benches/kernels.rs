@@ -2,14 +2,17 @@
 //! random unit-cube pairs and on the paper's protocol (Armadillo vs Armadillo, CAD vs CAD,
 //! CAD vs Armadillo; four triangles sharing a vertex, or four random ones, against one), plus
 //! the threaded batch path. Inputs come from the shared generators with fixed seeds; every
-//! benchmark first checks its results against the scalar AoS variant.
+//! benchmark first checks its results against the scalar AoS variant. The triangle-distance
+//! groups also time the peer, parry3d (f32) / parry3d-f64 `query::distance` on `Triangle`
+//! shapes, on the same inputs in the same run (after checking that it agrees with tridist).
 //!
 //! `cargo bench -p tridist-benches` (all), `cargo bench -p tridist-benches -- tri_tri/random`
 //! (a subset); `cargo test -p tridist-benches --benches` runs each once as a smoke test.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use tridist::{Engine, Real};
+use tridist::Engine;
 use tridist_scenes::eval::Variant;
+use tridist_scenes::peer::{self, Peer};
 use tridist_scenes::protocol::{self, Grouping};
 use tridist_scenes::workload::{check, TQuery, Workload};
 use tridist_scenes::{families, mesh, Family};
@@ -30,7 +33,25 @@ fn workloads() -> Vec<(&'static str, Pairs)> {
     ]
 }
 
-fn bench_precision<T: Real>(c: &mut Criterion, name: &str, pairs: &Pairs) {
+/// Times the peer on the workload's triangle pairs after checking that it answers the same
+/// question (`peer::agreement`); the disagreement is printed.
+fn bench_peer<T: Peer>(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    w: &Workload<T>,
+) {
+    let (ta, tb) = w.triangles();
+    let (worst, beyond) = peer::agreement(ta, tb).unwrap_or_else(|e| panic!("{e}"));
+    eprintln!(
+        "parry3d ({}) vs tridist: max |d - d'| / S = {worst:.2e}, {beyond} of {} pairs beyond 1e-3",
+        T::NAME,
+        ta.len()
+    );
+    let shapes = peer::Shapes::new(ta, tb);
+    let mut out = vec![T::ZERO; ta.len()];
+    g.bench_function(BenchmarkId::from_parameter("parry3d"), |b| b.iter(|| shapes.distances(&mut out)));
+}
+
+fn bench_precision<T: Peer>(c: &mut Criterion, name: &str, pairs: &Pairs) {
     let w = Workload::<T>::new(pairs, 0.02);
     for q in TQuery::ALL {
         let mut g = c.benchmark_group(format!("{}/{name}/{}", q.name(), T::NAME));
@@ -48,6 +69,9 @@ fn bench_precision<T: Real>(c: &mut Criterion, name: &str, pairs: &Pairs) {
             g.bench_function(BenchmarkId::from_parameter(v.name()), |b| {
                 b.iter(|| w.run(q, e, v == Variant::Scalar, &mut out, &mut flags).expect("lengths match"))
             });
+        }
+        if q == TQuery::TriTri {
+            bench_peer(&mut g, &w);
         }
         g.finish();
     }

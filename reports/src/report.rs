@@ -8,8 +8,9 @@ use std::time::Duration;
 
 use tridist::Real;
 use tridist_scenes::bounds::bound;
-use tridist_scenes::eval::{run, summarise, sweep_family, truth, Query, Row, Variant};
+use tridist_scenes::eval::{run, summarise, sweep_family, truth, Query, Row, Stats, Variant};
 use tridist_scenes::mesh;
+use tridist_scenes::peer::{self, Peer};
 use tridist_scenes::protocol::{self, Grouping};
 use tridist_scenes::{families, Family};
 
@@ -109,6 +110,55 @@ fn throughput(s: &Settings, prog: &mut Progress) -> Result<Vec<TRow>, String> {
     Ok(out)
 }
 
+/// The peer (parry3d / parry3d-f64 triangle distance) on one workload and precision.
+#[derive(Clone, Debug)]
+pub struct PeerRow {
+    /// Workload name.
+    pub workload: String,
+    /// Precision.
+    pub precision: &'static str,
+    /// Queries per second, the largest `|d - d'| / S` against tridist and the pairs beyond
+    /// `1e-3` (or why the agreement check failed).
+    pub measured: Result<(f64, f64, usize), String>,
+}
+
+fn peer_one<T: Peer>(pairs: &Pairs, budget: Duration) -> Result<(f64, f64, usize), String> {
+    let w = Workload::<T>::new(pairs, 0.02);
+    let (a, b) = w.triangles();
+    let (worst, beyond) = peer::agreement(a, b)?;
+    let secs = peer::time_pass(&peer::Shapes::new(a, b), budget);
+    Ok((a.len() as f64 / secs, worst, beyond))
+}
+
+fn peer_throughput(s: &Settings, prog: &mut Progress) -> Result<Vec<PeerRow>, String> {
+    let mut out = Vec::new();
+    for (name, pairs) in workloads(s)? {
+        out.push(PeerRow {
+            workload: name.clone(),
+            precision: "f32",
+            measured: peer_one::<f32>(&pairs, s.budget),
+        });
+        out.push(PeerRow {
+            workload: name.clone(),
+            precision: "f64",
+            measured: peer_one::<f64>(&pairs, s.budget),
+        });
+        prog.step(&format!("throughput parry3d {name}"));
+    }
+    Ok(out)
+}
+
+fn peer_accuracy(s: &Settings, prog: &mut Progress) -> Vec<(Family, &'static str, Stats)> {
+    let seed = tridist_scenes::seed();
+    let mut out = Vec::new();
+    for f in Family::ALL {
+        out.push((f, "f32", peer::judge::<f32>(f, seed, s.cases)));
+        out.push((f, "f64", peer::judge::<f64>(f, seed, s.cases)));
+        prog.step(&format!("accuracy parry3d {}", f.name()));
+    }
+    out
+}
+
 fn qps(t: &[TRow], workload: &str, q: TQuery, v: Variant, p: &str) -> Option<f64> {
     t.iter()
         .find(|r| r.workload == workload && r.query == q && r.variant == v && r.precision == p)
@@ -180,9 +230,11 @@ fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), String> {
 pub fn run_report(s: &Settings) -> Result<(), String> {
     std::fs::create_dir_all(&s.out_dir).map_err(|e| format!("{}: {e}", s.out_dir.display()))?;
     let seed = tridist_scenes::seed();
-    let mut prog = Progress::new(Query::ALL.len() * Family::ALL.len() + 7 + 6 * 4 + 4 + 2);
+    let mut prog = Progress::new((Query::ALL.len() + 1) * Family::ALL.len() + 7 + 6 * 4 + 7 + 4 + 2);
     let acc = accuracy(s, &mut prog);
+    let peer_acc = peer_accuracy(s, &mut prog);
     let thr = throughput(s, &mut prog)?;
+    let peer_thr = peer_throughput(s, &mut prog)?;
     // stability curves
     let simd = best_simd();
     let mut mag = Vec::new();
@@ -262,6 +314,29 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
                 );
             }
         }
+    }
+    let _ = writeln!(a, "\n## Peer: parry3d / parry3d-f64 against the same oracle\n\nparry's `query::distance` on two `Triangle` shapes (GJK), what a Rust user would pick today, judged on the same cases with the same metrics (distance only: it returns no points; its distance is squared in the input precision before judging, which adds at most half an ulp). The last column is tridist's {} PQP kernel on the same cases. No bound applies: these are measurements.\n\n| family | prec | max E | p99 E | median E | contact misses | false zeros (beyond 8uS / strict) | non-finite | tridist {} max E |\n|---|---|---|---|---|---|---|---|---|", best_simd().name(), best_simd().name());
+    for (f, p, st) in &peer_acc {
+        let ours = acc
+            .iter()
+            .filter(|r| {
+                r.query == Query::TriTri && r.variant == best_simd() && r.precision == *p && r.family == *f
+            })
+            .map(|r| r.stats.max_excess)
+            .fold(0.0, f64::max);
+        let _ = writeln!(
+            a,
+            "| {} | {p} | {} | {} | {} | {} | {} / {} | {} | {} |",
+            f.name(),
+            fmt(st.max_excess),
+            fmt(st.p99),
+            fmt(st.median),
+            st.contact_misses,
+            st.false_zeros,
+            st.strict_false_zeros,
+            st.nonfinite,
+            fmt(ours)
+        );
     }
     let _ = writeln!(a, "\n## The bound table's reasons\n");
     for r in reasons {
@@ -365,6 +440,38 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
             qps(&thr, rw, TQuery::TriTri, best_simd(), "f64")
         )
     );
+    let peer_q = |wl: &str, p: &str| {
+        peer_thr
+            .iter()
+            .find(|r| r.workload == wl && r.precision == p)
+            .and_then(|r| r.measured.as_ref().ok())
+            .map(|m| m.0)
+    };
+    let _ = writeln!(
+        t,
+        "| {} tri-tri vs parry3d (same pairs) | {} | {} |",
+        best_simd().name(),
+        ratio(qps(&thr, rw, TQuery::TriTri, best_simd(), "f32"), peer_q(rw, "f32")),
+        ratio(qps(&thr, rw, TQuery::TriTri, best_simd(), "f64"), peer_q(rw, "f64"))
+    );
+    let _ = writeln!(t, "\n## Peer: parry3d on the same inputs\n\nTriangle distance, million queries per second, one thread: parry3d (f32) and parry3d-f64 `query::distance` on `Triangle` shapes at identity poses, timed like the kernels on the same pairs in the same run, after checking that its distances agree with tridist's within 1e-3 S on at least 90% of the pairs (S: the pair's largest coordinate; the last column is what that check measured). Its accuracy against the oracle: [ACCURACY.md](ACCURACY.md#peer-parry3d--parry3d-f64-against-the-same-oracle).\n\n| workload | prec | tridist scalar (AoS) | tridist {} | parry3d | {} vs parry3d | parry: max abs(d - d')/S, pairs beyond 1e-3 |\n|---|---|---|---|---|---|---|", best_simd().name(), best_simd().name());
+    for r in &peer_thr {
+        let ours = qps(&thr, &r.workload, TQuery::TriTri, best_simd(), r.precision);
+        let (pq, agree) = match &r.measured {
+            Ok((q, worst, beyond)) => (Some(*q), format!("{worst:.1e}, {beyond}")),
+            Err(e) => (None, format!("check failed: {e}")),
+        };
+        let _ = writeln!(
+            t,
+            "| {} | {} | {} | {} | {} | {} | {agree} |",
+            r.workload,
+            r.precision,
+            mq(qps(&thr, &r.workload, TQuery::TriTri, Variant::Scalar, r.precision)),
+            mq(ours),
+            mq(pq),
+            ratio(ours, pq)
+        );
+    }
     let failed: Vec<&TRow> = thr.iter().filter(|r| r.qps.is_err()).collect();
     if !failed.is_empty() {
         let _ = writeln!(t, "\n## Result checks that failed\n");
@@ -503,7 +610,7 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
     prog.step("writing reports");
 
     if let Some(readme) = &s.readme {
-        update_readme(readme, &acc, &thr)?;
+        update_readme(readme, &acc, &thr, &peer_acc, &peer_thr)?;
     }
     prog.step("README results");
     if !failed.is_empty() {
@@ -512,7 +619,13 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
     Ok(())
 }
 
-fn update_readme(path: &Path, acc: &[Row], thr: &[TRow]) -> Result<(), String> {
+fn update_readme(
+    path: &Path,
+    acc: &[Row],
+    thr: &[TRow],
+    peer_acc: &[(Family, &'static str, Stats)],
+    peer_thr: &[PeerRow],
+) -> Result<(), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let (b, e) = ("<!-- results:begin -->", "<!-- results:end -->");
     let (Some(i), Some(j)) = (text.find(b), text.find(e)) else { return Ok(()) };
@@ -539,6 +652,22 @@ fn update_readme(path: &Path, acc: &[Row], thr: &[TRow]) -> Result<(), String> {
     let _ = writeln!(s, "- Worst excess error of the exact-method kernels (segment-segment, point-triangle, triangle-triangle PQP and brute force, intersection) over every variant, precision and input family: **E = {}** (target 8); contact misses + false zeros + non-finite outputs: **{mis}**.", fmt(maxe));
     let _ = writeln!(s, "- The penalty method (an approximation, default options): median E at most {} on every family, worst case {}.", fmt(pen_med), fmt(pen_max));
     let _ = writeln!(s, "- Triangle-triangle on random unit-cube pairs, f32: {} {} M/s vs scalar {} M/s (**{}**); f64: {} M/s vs {} M/s (**{}**).", simd.name(), q(simd, "f32").map(|v| format!("{:.1}", v / 1e6)).unwrap_or_default(), q(Variant::Scalar, "f32").map(|v| format!("{:.2}", v / 1e6)).unwrap_or_default(), r(q(simd, "f32"), q(Variant::Scalar, "f32")), q(simd, "f64").map(|v| format!("{:.1}", v / 1e6)).unwrap_or_default(), q(Variant::Scalar, "f64").map(|v| format!("{:.2}", v / 1e6)).unwrap_or_default(), r(q(simd, "f64"), q(Variant::Scalar, "f64")));
+    let peer_q = |p: &str| {
+        peer_thr
+            .iter()
+            .find(|r| r.workload == rw && r.precision == p)
+            .and_then(|r| r.measured.as_ref().ok())
+            .map(|m| m.0)
+    };
+    let peer_e = |p: &str| peer_acc.iter().filter(|x| x.1 == p).map(|x| x.2.max_excess).fold(0.0, f64::max);
+    let peer_mis = |p: &str| -> usize {
+        peer_acc
+            .iter()
+            .filter(|x| x.1 == p)
+            .map(|x| x.2.contact_misses + x.2.false_zeros + x.2.nonfinite)
+            .sum()
+    };
+    let _ = writeln!(s, "- The peer, parry3d `query::distance` on the same random pairs: f32 {} M/s ({} is **{}** faster), f64 {} M/s (**{}**); its worst E over the families: {} (f32), {} (f64), with {} / {} contact misses + false zeros + non-finite outputs.", peer_q("f32").map(|v| format!("{:.2}", v / 1e6)).unwrap_or_default(), simd.name(), r(q(simd, "f32"), peer_q("f32")), peer_q("f64").map(|v| format!("{:.2}", v / 1e6)).unwrap_or_default(), r(q(simd, "f64"), peer_q("f64")), fmt(peer_e("f32")), fmt(peer_e("f64")), peer_mis("f32"), peer_mis("f64"));
     let _ = writeln!(s, "\n![throughput vs error](reports/tradeoff.svg)\n\nFull tables: [reports/ACCURACY.md](reports/ACCURACY.md), [reports/THROUGHPUT.md](reports/THROUGHPUT.md), [reports/TRADEOFF.md](reports/TRADEOFF.md).");
     let out = format!("{}{}{}", &text[..i], s, &text[j..]);
     std::fs::write(path, out).map_err(|e| format!("{}: {e}", path.display()))

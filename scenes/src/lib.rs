@@ -7,6 +7,7 @@
 //! * [`eval`]: run a kernel variant, judge it against the exact oracle, summarise;
 //! * [`bounds`]: the declared bound table, one row per (query, variant, precision, family group),
 //!   each with its reason;
+//! * [`peer`]: parry3d / parry3d-f64, the peer measured and judged on the same inputs;
 //! * [`fuzzing`]: the fuzz targets' bodies, run by libFuzzer (`fuzz/`) and replayed on stable
 //!   by `cargo test` (committed findings in `fuzz/regressions/`).
 
@@ -15,6 +16,7 @@ pub mod eval;
 pub mod families;
 pub mod fuzzing;
 pub mod mesh;
+pub mod peer;
 pub mod protocol;
 pub mod rng;
 pub mod workload;

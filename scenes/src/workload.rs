@@ -96,6 +96,11 @@ impl<T: Real> Workload<T> {
         }
     }
 
+    /// The triangle pairs (AoS), for peers measured on the same inputs.
+    pub fn triangles(&self) -> (&[Triangle<T>], &[Triangle<T>]) {
+        (&self.ta, &self.tb)
+    }
+
     /// Number of queries of one pass.
     pub fn len(&self, q: TQuery) -> usize {
         match q {
