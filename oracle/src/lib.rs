@@ -255,6 +255,25 @@ pub fn intersect_triangle_triangle(s: &[P3; 3], t: &[P3; 3]) -> bool {
     triangle_triangle(s, t).d2 == 0
 }
 
+/// Do two triangles at exact distance 0 only *touch*: does shrinking both about their centroids
+/// by the factor `1 - 2^-8` separate them? (Shared vertices or edges, a vertex on a face, edges
+/// crossing at a boundary.) False for pairs at positive distance and for pairs that overlap with
+/// room to spare (piercing, coplanar overlap of positive area). The intersection predicate of a
+/// floating-point kernel is within rounding of the input on touching pairs, so their verdicts are
+/// counted rather than bounded (bound table).
+pub fn touching_only(s: &[P3; 3], t: &[P3; 3]) -> bool {
+    if triangle_triangle(s, t).d2 != 0 {
+        return false;
+    }
+    let f = Rational::from(1) - Rational::from((1, 256));
+    let shrink = |x: &[P3; 3]| -> [P3; 3] {
+        let c: P3 = [0, 1, 2].map(|k| Rational::from(&x[0][k] + &x[1][k]) + &x[2][k]).map(|v| v / 3);
+        let one = |v: &P3| lerp(&c, &sub(v, &c), &f);
+        [one(&x[0]), one(&x[1]), one(&x[2])]
+    };
+    triangle_triangle(&shrink(s), &shrink(t)).d2 != 0
+}
+
 /// Exact squared distance and closest points of two triangles: the first (in a fixed order) of
 /// the 15 feature pairs with the smallest distance, or, when that is positive, a point where an
 /// edge of one triangle pierces the other. Intersecting pairs give 0 with `p == q` a common

@@ -356,3 +356,25 @@ fn overflow_is_allowed_just_above_the_largest_finite_value() {
     let far = q(dmax - 16.0 * metrics::F32.u * s) * q(dmax - 16.0 * metrics::F32.u * s);
     assert!(!metrics::overflow_allowed(&far, s, metrics::F32, metrics::OVERFLOW_REACH));
 }
+
+#[test]
+fn touching_only_separates_contact_from_overlap() {
+    let ex = |t: &T3| exact_points(t).unwrap();
+    let a = ex(&A);
+    // shared vertex, shared edge, vertex on the face: touching
+    for b in [
+        [[1.0, 0.0, 0.0], [2.0, 1.0, 5.0], [2.0, -1.0, 3.0]],
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.7]],
+        [[0.25, 0.25, 0.0], [0.25, 0.25, 1.0], [1.0, 1.0, 1.0]],
+    ] {
+        assert!(touching_only(&a, &ex(&b)), "{b:?}");
+    }
+    // piercing and coplanar overlap: robust; apart: not touching
+    for b in [
+        [[0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [5.0, 5.0, 0.5]],
+        [[0.1, 0.1, 0.0], [0.9, 0.0, 0.0], [0.0, 0.9, 0.0]],
+        [[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]],
+    ] {
+        assert!(!touching_only(&a, &ex(&b)), "{b:?}");
+    }
+}

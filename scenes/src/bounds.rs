@@ -48,7 +48,10 @@ pub fn bound(query: Query, variant: Variant, precision: &str, family: Family) ->
             reason: "overlap verdicts on pairs that touch exactly (or miss by a few ulps) are within \
                      rounding of the input: counted and published, not bounded. The fuzzer found \
                      f32 verdicts of 'disjoint' for a vertex rounded onto a face at 1e20, and f64 ones for \
-                     two nearly degenerate triangles whose segments cross exactly.",
+                     two nearly degenerate triangles whose segments cross exactly, and (avx2fma) \
+                     'disjoint' for a segment whose endpoint lies exactly on a needle's edge. The \
+                     fuzz harness judges every pair that only touches (oracle::touching_only) by \
+                     this row, whatever construction built it.",
             ..DEFAULT
         },
         (Query::Penalty, _) => {
