@@ -315,7 +315,7 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
             }
         }
     }
-    let _ = writeln!(a, "\n## Peer: parry3d / parry3d-f64 against the same oracle\n\nparry's `query::distance` on two `Triangle` shapes (GJK), what a Rust user would pick today, judged on the same cases with the same metrics (distance only: it returns no points; its distance is squared in the input precision before judging, which adds at most half an ulp). The last column is tridist's {} PQP kernel on the same cases. No bound applies: these are measurements.\n\n| family | prec | max E | p99 E | median E | contact misses | false zeros (beyond 8uS / strict) | non-finite | tridist {} max E |\n|---|---|---|---|---|---|---|---|---|", best_simd().name(), best_simd().name());
+    let _ = writeln!(a, "\n## Peer: parry3d / parry3d-f64 against the same oracle\n\nparry's `query::distance` on two `Triangle` shapes (GJK), what a Rust user would pick today, judged on the same cases with the same metrics (distance only: it returns no points; its distance is squared in the input precision before judging, which adds at most half an ulp). The last column is tridist's {} PQP kernel on the same cases. No bound applies: these are measurements. Where parry reports 0 for pairs that are apart (false zeros, mostly on the scale family), its stopping tolerances are absolute and do not follow the input's magnitude.\n\n| family | prec | max E | p99 E | median E | contact misses | false zeros (beyond 8uS / strict) | non-finite | tridist {} max E |\n|---|---|---|---|---|---|---|---|---|", best_simd().name(), best_simd().name());
     for (f, p, st) in &peer_acc {
         let ours = acc
             .iter()
