@@ -162,15 +162,18 @@ pub(crate) fn q_within<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3], margin: L::S) -
     let uu = L::splat(L::S::UNIT_ROUNDOFF);
     let slack = L::one().add(uu.mul(L::splat(L::S::from_f64(16.0))));
     let abs = uu.mul(L::splat(L::S::from_f64(64.0)));
-    let far = algo::aabb_gap2(&s, &t).gt(m2.mul(slack).add(abs.mul(abs)));
-    let r = if far.all() {
-        Res { d: inf, p: V3::zero(), q: V3::zero() }
-    } else {
-        let full = algo::tri_tri_pqp(&s, &t);
-        let beyond = far.or(full.d.gt(m2));
-        L::select_res(beyond, Res { d: inf, p: full.p, q: full.q }, full)
-    };
-    algo::unscale(r, sc.p, sc.finite)
+    let gap2 = algo::aabb_gap2(&s, &t);
+    // The verdict is the caller's: a squared distance that underflows to 0 in the caller's
+    // units is within a margin of 0 (fuzzing found subnormal pairs skipped by the prescaled box
+    // test that the full query puts at 0), so the box gap must also exceed the margin there.
+    let margin2 = L::splat(margin).mul(L::splat(margin));
+    let far = gap2.gt(m2.mul(slack).add(abs.mul(abs))).and(gap2.mul(sc.p.mul(sc.p)).gt(margin2));
+    if far.all() {
+        return algo::unscale(Res { d: inf, p: V3::zero(), q: V3::zero() }, sc.p, sc.finite);
+    }
+    let full = algo::unscale(algo::tri_tri_pqp(&s, &t), sc.p, sc.finite);
+    let beyond = far.or(full.d.gt(margin2));
+    L::select_res(beyond, Res { d: inf, p: full.p, q: full.q }, full)
 }
 
 #[inline(always)]

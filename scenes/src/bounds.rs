@@ -87,12 +87,33 @@ pub fn meets(s: &crate::eval::Stats, b: &Bound) -> bool {
 /// Runs `query` on every available variant over `cases` (whose exact answers are `truth`) and
 /// judges each against its row of the table; returns a reproducible description of every
 /// violation (empty when all variants meet their bounds).
+///
+/// An intersection verdict on a pair that only touches (`tridist_oracle::touching_only`: exact
+/// contact that shrinking both triangles by 2^-8 removes) is within rounding of the input, so
+/// such cases are judged by the touching row whatever family generated them (the extensive run
+/// found them among near-parallel pairs, the fuzzer among "random" constructions).
 pub fn violations<T: tridist::Real>(
     query: Query,
     family: Family,
     cases: &[crate::Case<T>],
     truth: &[crate::eval::Truth],
 ) -> Vec<String> {
+    if query == Query::Intersect && family != Family::Touching {
+        let touch: Vec<bool> = cases.iter().zip(truth).map(|(c, t)| t.d2 == 0 && touching(c)).collect();
+        if touch.iter().any(|&x| x) {
+            let pick = |want: bool| -> (Vec<crate::Case<T>>, Vec<crate::eval::Truth>) {
+                let idx = (0..cases.len()).filter(|&i| touch[i] == want);
+                idx.map(|i| (cases[i].clone(), truth[i].clone())).unzip()
+            };
+            let (tc, tt) = pick(true);
+            let (oc, ot) = pick(false);
+            let mut out = violations(query, Family::Touching, &tc, &tt);
+            if !oc.is_empty() {
+                out.extend(violations(query, family, &oc, &ot));
+            }
+            return out;
+        }
+    }
     let mut out = Vec::new();
     for v in Variant::ALL {
         let Ok(o) = crate::eval::run(query, v, cases) else { continue };
@@ -111,4 +132,12 @@ pub fn violations<T: tridist::Real>(
         }
     }
     out
+}
+
+fn touching<T: tridist::Real>(c: &crate::Case<T>) -> bool {
+    let ex = |t: &tridist::Triangle<T>| tridist_oracle::exact_points(&t.map(|p| p.map(|x| x.to_f64())));
+    match (ex(&c.a), ex(&c.b)) {
+        (Ok(a), Ok(b)) => tridist_oracle::touching_only(&a, &b),
+        _ => false,
+    }
 }

@@ -156,23 +156,13 @@ impl PairInput {
 
 /// Runs `query` on every available variant for the case and panics, with a reproducible
 /// description, when the bound table is exceeded or a contact is misclassified.
-///
 /// A construction mode names the family it aims at, but any mode can land on an exact contact
-/// (grid coordinates, ulp nudges): an intersection verdict on a pair that only touches
-/// (`tridist_oracle::touching_only`) is judged by the touching row, whatever mode built it.
+/// (grid coordinates, ulp nudges); `violations` judges intersection verdicts on merely touching
+/// pairs by the touching row.
 pub fn check<T: Real>(query: Query, case: Case<T>, family: Family) {
-    let family = if query == Query::Intersect && touching(&case) { Family::Touching } else { family };
     let cases = vec![case];
     let bad = violations(query, family, &cases, &truth(query, &cases));
     assert!(bad.is_empty(), "{}", bad.join("\n"));
-}
-
-fn touching<T: Real>(c: &Case<T>) -> bool {
-    let ex = |t: &Triangle<T>| tridist_oracle::exact_points(&t.map(|p| p.map(|x| x.to_f64())));
-    match (ex(&c.a), ex(&c.b)) {
-        (Ok(a), Ok(b)) => tridist_oracle::touching_only(&a, &b),
-        _ => false,
-    }
 }
 
 /// The differential check of `queries` in both precisions.
