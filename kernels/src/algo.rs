@@ -656,11 +656,14 @@ pub(crate) fn tri_tri_penalty<L: Lanes>(
     (Res { d: p.sub(q).norm2(), p, q }, iters)
 }
 
-/// Barycentric parameters brought into the triangle: NaN back to the start `(u0, v0)`, clamp
-/// at 0, then scale onto `u + v <= 1`.
+/// Barycentric parameters brought into the triangle: NaN or infinite back to the start
+/// `(u0, v0)`, clamp at 0, then scale onto `u + v <= 1`. (An iteration that diverged to
+/// infinity made `inf / inf` here: NaN closest points for finite f32 input, found by the
+/// extensive differential run on parallel faces.)
 #[inline(always)]
 fn feasible<L: Lanes>(u: L, v: L, u0: L, v0: L) -> (L, L) {
-    let ok = u.eq(u).and(v.eq(v));
+    let big = L::splat(L::S::MAX);
+    let ok = u.abs().le(big).and(v.abs().le(big));
     let u = L::select(ok, u, u0).max(L::zero());
     let v = L::select(ok, v, v0).max(L::zero());
     let sum = u.add(v);

@@ -118,11 +118,18 @@ pub const OVERFLOW_REACH: f64 = 8.0;
 /// finite answer is an infinite excess; `+inf` is also excess 0 where an answer within the E
 /// target would overflow ([`overflow_allowed`]).
 pub fn excess(d2_hat: f64, exact: &Rational, s: f64, prec: Precision) -> f64 {
+    excess_within(d2_hat, exact, s, prec, OVERFLOW_REACH)
+}
+
+/// [`excess`] for a method whose error bound is `reach` (in units of `u S`) instead of the E
+/// target: `+inf` is excess 0 where an answer within `reach` would overflow (an approximation
+/// such as the penalty method, bounded by `8 S`, uses `reach = 8 / u`).
+pub fn excess_within(d2_hat: f64, exact: &Rational, s: f64, prec: Precision, reach: f64) -> f64 {
     let r = prec.round(exact);
     if r.is_infinite() {
         return if d2_hat == f64::INFINITY { 0.0 } else { f64::INFINITY };
     }
-    if d2_hat == f64::INFINITY && overflow_allowed(exact, s, prec, OVERFLOW_REACH) {
+    if d2_hat == f64::INFINITY && overflow_allowed(exact, s, prec, reach) {
         return 0.0;
     }
     let e = scaled_error(d2_hat, exact, s, prec);
