@@ -157,11 +157,11 @@ pub(crate) fn normal<L: Lanes>(e: &[V3<L>; 3]) -> V3<L> {
 /// noise of the cross product of its best-conditioned edge pair)? Relative test.
 #[inline(always)]
 pub(crate) fn degenerate<L: Lanes>(e: &[V3<L>; 3]) -> L::M {
+    // Unsquared (max-)norms: squares of a needle's width underflow.
     let (a, b) = normal_pair(e);
     let n = a.cross(b);
     let tol = u::<L>().mul(c(16.0));
-    let bound = a.norm2().mul(b.norm2()).mul(tol).mul(tol);
-    n.norm2().le(bound)
+    n.norm_inf().le(a.norm_inf().mul(b.norm_inf()).mul(tol))
 }
 
 /// Closest point on triangle (a, b, c) to `x` (Ericson 5.1.5, Voronoi regions written with
@@ -189,8 +189,12 @@ pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) 
     // products with accurately rounded cross products: the dot-product form (d1*d4 - d3*d2)
     // misclassifies points inside thin triangles (found by fuzzing: a point on a sliver came
     // back 490 u S away).
+    // n is scaled by a power of two to unit magnitude (exact; only signs and the direction are
+    // used): triple products multiply four lengths and underflowed for a needle of aspect 1e22
+    // in f32 (found by fuzzing: a point inside it came back 27000 u S away).
     let tri_edges = [ab, cv.sub(b), a.sub(cv)];
     let n = normal(&tri_edges);
+    let n = n.scale(L::one().div(n.norm_inf().max(L::splat(L::S::MIN_POSITIVE)).exponent()));
     let (xa, xb, xc) = (a.sub(x), b.sub(x), cv.sub(x));
     let vc = n.dot(xa.cross_accurate(xb));
     let m_ab = vc.le(z).and(d1.ge(z)).and(d3.le(z)).andnot(done);
