@@ -159,6 +159,14 @@ fn peer_accuracy(s: &Settings, prog: &mut Progress) -> Vec<(Family, &'static str
     out
 }
 
+/// The peer's measured queries per second on a workload and precision.
+fn peer_qps(t: &[PeerRow], workload: &str, p: &str) -> Option<f64> {
+    t.iter()
+        .find(|r| r.workload == workload && r.precision == p)
+        .and_then(|r| r.measured.as_ref().ok())
+        .map(|m| m.0)
+}
+
 fn qps(t: &[TRow], workload: &str, q: TQuery, v: Variant, p: &str) -> Option<f64> {
     t.iter()
         .find(|r| r.workload == workload && r.query == q && r.variant == v && r.precision == p)
@@ -440,13 +448,7 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
             qps(&thr, rw, TQuery::TriTri, best_simd(), "f64")
         )
     );
-    let peer_q = |wl: &str, p: &str| {
-        peer_thr
-            .iter()
-            .find(|r| r.workload == wl && r.precision == p)
-            .and_then(|r| r.measured.as_ref().ok())
-            .map(|m| m.0)
-    };
+    let peer_q = |wl: &str, p: &str| peer_qps(&peer_thr, wl, p);
     let _ = writeln!(
         t,
         "| {} tri-tri vs parry3d (same pairs) | {} | {} |",
@@ -652,13 +654,7 @@ fn update_readme(
     let _ = writeln!(s, "- Worst excess error of the exact-method kernels (segment-segment, point-triangle, triangle-triangle PQP and brute force, intersection) over every variant, precision and input family: **E = {}** (target 8); contact misses + false zeros + non-finite outputs: **{mis}**.", fmt(maxe));
     let _ = writeln!(s, "- The penalty method (an approximation, default options): median E at most {} on every family, worst case {}.", fmt(pen_med), fmt(pen_max));
     let _ = writeln!(s, "- Triangle-triangle on random unit-cube pairs, f32: {} {} M/s vs scalar {} M/s (**{}**); f64: {} M/s vs {} M/s (**{}**).", simd.name(), q(simd, "f32").map(|v| format!("{:.1}", v / 1e6)).unwrap_or_default(), q(Variant::Scalar, "f32").map(|v| format!("{:.2}", v / 1e6)).unwrap_or_default(), r(q(simd, "f32"), q(Variant::Scalar, "f32")), q(simd, "f64").map(|v| format!("{:.1}", v / 1e6)).unwrap_or_default(), q(Variant::Scalar, "f64").map(|v| format!("{:.2}", v / 1e6)).unwrap_or_default(), r(q(simd, "f64"), q(Variant::Scalar, "f64")));
-    let peer_q = |p: &str| {
-        peer_thr
-            .iter()
-            .find(|r| r.workload == rw && r.precision == p)
-            .and_then(|r| r.measured.as_ref().ok())
-            .map(|m| m.0)
-    };
+    let peer_q = |p: &str| peer_qps(peer_thr, rw, p);
     let peer_e = |p: &str| peer_acc.iter().filter(|x| x.1 == p).map(|x| x.2.max_excess).fold(0.0, f64::max);
     let peer_mis = |p: &str| -> usize {
         peer_acc
