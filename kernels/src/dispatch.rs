@@ -84,15 +84,15 @@ fn detected() -> &'static [bool; 4] {
 
 macro_rules! run_for {
     ($fname:ident, $t:ty, $sse:ident, $avx:ident, $fma:ident) => {
-        /// Runs `job` on `isa`. The caller ([`crate::Engine`]) only holds an `Isa` that
-        /// [`Isa::is_available`] confirmed.
+        /// Runs `job` on `isa`, after checking (one cached load) that this CPU supports it: an
+        /// unavailable variant runs the scalar code instead, so no caller can reach a
+        /// `#[target_feature]` entry point without detection.
         pub(crate) fn $fname(isa: Isa, job: &mut Job<'_, $t>) {
-            debug_assert!(isa.is_available());
+            let isa = if isa.is_available() { isa } else { Isa::Scalar };
             match isa {
                 Isa::Scalar => crate::driver::run::<$t>(job),
                 #[cfg(target_arch = "x86_64")]
-                // SAFETY: an Engine is only built for an available Isa (Engine::new checks
-                // Isa::is_available, i.e. runtime detection of sse4.1).
+                // SAFETY: Isa::is_available (runtime detection of sse4.1) was checked above.
                 Isa::Sse41 => unsafe { crate::arch::x86::$sse(job) },
                 #[cfg(target_arch = "x86_64")]
                 // SAFETY: as above, avx was detected at run time.

@@ -7,8 +7,7 @@ use crate::algo::{self, Res, SelectExt};
 use crate::lanes::{Lanes, Mask, V3};
 use crate::real::Real;
 
-/// Which query a job runs. Hidden plumbing for [`crate::Engine`].
-#[doc(hidden)]
+/// Which query a job runs (crate-private plumbing of [`crate::Engine`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum QueryKind {
     SegSeg,
@@ -20,8 +19,7 @@ pub enum QueryKind {
     Penalty,
 }
 
-/// Where one side's primitives come from (K points each). Hidden plumbing.
-#[doc(hidden)]
+/// Where one side's primitives come from (K points each). Crate-private plumbing.
 #[derive(Clone, Copy)]
 pub enum Src<'a, T> {
     /// Padded SoA columns: coordinate `j` (0..3K) of primitive `i` is `data[j * cap + base + i]`.
@@ -32,15 +30,13 @@ pub enum Src<'a, T> {
     One { flat: &'a [T], k: usize },
 }
 
-/// Caller-provided outputs. Hidden plumbing.
-#[doc(hidden)]
+/// Caller-provided outputs. Crate-private plumbing.
 pub enum DOut<'a, T> {
     Real(&'a mut [T]),
     Flag(&'a mut [Option<bool>]),
 }
 
-/// One batch query. Hidden plumbing.
-#[doc(hidden)]
+/// One batch query. Crate-private plumbing.
 pub struct Job<'a, T> {
     pub query: QueryKind,
     pub a: Src<'a, T>,

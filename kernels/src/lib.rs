@@ -39,14 +39,27 @@
 //! assert_eq!(tridist::sqdist_triangle_triangle(&a, &b), 4.0);
 //! assert_eq!(tridist::intersect_triangle_triangle(&a, &b), Some(false));
 //! ```
+//!
+//! ## Soundness of the SIMD dispatch
+//! The `#[target_feature]` kernels are reached only through an [`Engine`], whose variant was
+//! confirmed by runtime detection, and the dispatcher checks detection again (one cached load)
+//! before every batch. The batch plumbing is private to the crate; it cannot be named from
+//! outside:
+//! ```compile_fail,E0603
+//! use tridist::driver::Job; // private module
+//! ```
+//! ```compile_fail,E0624
+//! fn reach<T: tridist::Real>() {
+//!     T::run_job(tridist::Isa::Avx2Fma, todo!()); // the seal's method is crate-private
+//! }
+//! ```
 #![cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 
 mod algo;
 mod arch;
 mod batch;
 mod dispatch;
-#[doc(hidden)]
-pub mod driver;
+mod driver;
 mod lanes;
 mod real;
 
@@ -360,7 +373,7 @@ impl Engine {
         let (sa, sb) = (a.src(), b.src());
         if self.threads <= 1 || n < 1024 {
             let mut job = Job { query, a: sa, b: sb, n, param, d, p, q, penalty: options, iters };
-            T::__run(self.isa, &mut job);
+            <T as real::sealed::Sealed>::run_job(self.isa, &mut job);
             return Ok(());
         }
         // Chunks of whole 8-lane groups, one per thread; outputs split alike.
@@ -400,7 +413,7 @@ impl Engine {
                     penalty: options,
                     iters: it_now,
                 };
-                scope.spawn(move || T::__run(isa, &mut job));
+                scope.spawn(move || <T as real::sealed::Sealed>::run_job(isa, &mut job));
                 start += len;
             }
         });

@@ -3,13 +3,20 @@
 use core::fmt::{Debug, Display};
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-mod sealed {
-    pub trait Sealed {}
-    impl Sealed for f32 {}
-    impl Sealed for f64 {}
+/// The seal, which also carries the batch plumbing: `Sealed` lives in a private module, so no
+/// other crate can implement or name it, and its method takes a [`crate::driver::Job`], a type
+/// in a private module that no other crate can construct. Safe code outside this crate cannot
+/// reach the `#[target_feature]` entry points.
+pub(crate) mod sealed {
+    pub(crate) trait Sealed: Sized {
+        /// Runs a batch job on an ISA variant (checks availability itself).
+        fn run_job(isa: crate::Isa, job: &mut crate::driver::Job<'_, Self>);
+    }
 }
 
 /// A working precision: `f32` or `f64`. Sealed; every query is generic over it.
+// The crate-private supertrait is the seal (and keeps the plumbing unnameable from outside).
+#[allow(private_bounds)]
 pub trait Real:
     sealed::Sealed
     + Copy
@@ -58,9 +65,6 @@ pub trait Real:
     fn from_bits_u64(b: u64) -> Self;
     /// Square root.
     fn sqrt(self) -> Self;
-    /// Runs a batch job on an ISA variant. Plumbing for [`crate::Engine`]; not part of the API.
-    #[doc(hidden)]
-    fn __run(isa: crate::Isa, job: &mut crate::driver::Job<'_, Self>);
 }
 
 macro_rules! impl_real {
@@ -99,7 +103,9 @@ macro_rules! impl_real {
             fn sqrt(self) -> Self {
                 <$t>::sqrt(self)
             }
-            fn __run(isa: crate::Isa, job: &mut crate::driver::Job<'_, Self>) {
+        }
+        impl sealed::Sealed for $t {
+            fn run_job(isa: crate::Isa, job: &mut crate::driver::Job<'_, Self>) {
                 crate::dispatch::$run(isa, job)
             }
         }
