@@ -10,11 +10,11 @@
 //! (a subset); `cargo test -p tridist-benches --benches` runs each once as a smoke test.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use tridist::Engine;
+use tridist::{Engine, Intersection, Query};
 use tridist_scenes::eval::Variant;
 use tridist_scenes::peer::{self, Peer};
 use tridist_scenes::protocol::{self, Grouping};
-use tridist_scenes::workload::{check, TQuery, Workload};
+use tridist_scenes::workload::{check, Workload};
 use tridist_scenes::{families, mesh, Family};
 
 type Pairs = Vec<(tridist::Triangle<f64>, tridist::Triangle<f64>)>;
@@ -40,20 +40,27 @@ fn bench_peer<T: Peer>(
     w: &Workload<T>,
 ) {
     let (ta, tb) = w.triangles();
-    let (worst, beyond) = peer::agreement(ta, tb).unwrap_or_else(|e| panic!("{e}"));
-    eprintln!(
-        "parry3d ({}) vs tridist: max |d - d'| / S = {worst:.2e}, {beyond} of {} pairs beyond 1e-3",
-        T::NAME,
-        ta.len()
-    );
-    let shapes = peer::Shapes::new(ta, tb);
-    let mut out = vec![T::ZERO; ta.len()];
-    g.bench_function(BenchmarkId::from_parameter("parry3d"), |b| b.iter(|| shapes.distances(&mut out)));
+    for lib in peer::Lib::ALL {
+        if !lib.available() {
+            eprintln!("{} not measured: {}", lib.name(), lib.missing_reason());
+            continue;
+        }
+        let (worst, beyond) = peer::agreement(lib, ta, tb).unwrap_or_else(|e| panic!("{e}"));
+        eprintln!(
+            "{} ({}) vs tridist: max |d - d'| / S = {worst:.2e}, {beyond} of {} pairs beyond 1e-3",
+            lib.name(),
+            T::NAME,
+            ta.len()
+        );
+        let shapes = peer::Shapes::for_lib(lib, ta, tb);
+        let mut out = vec![T::ZERO; ta.len()];
+        g.bench_function(BenchmarkId::from_parameter(lib.name()), |b| b.iter(|| shapes.distances(&mut out)));
+    }
 }
 
 fn bench_precision<T: Peer>(c: &mut Criterion, name: &str, pairs: &Pairs) {
     let w = Workload::<T>::new(pairs, 0.02);
-    for q in TQuery::ALL {
+    for &q in Query::ALL {
         let mut g = c.benchmark_group(format!("{}/{name}/{}", q.name(), T::NAME));
         g.throughput(Throughput::Elements(w.len(q) as u64));
         g.sample_size(10);
@@ -65,12 +72,12 @@ fn bench_precision<T: Peer>(c: &mut Criterion, name: &str, pairs: &Pairs) {
             }
             let e = Engine::new(v.isa()).expect("checked above");
             let n = w.len(q);
-            let (mut out, mut flags) = (vec![T::ZERO; n], vec![None; n]);
+            let (mut out, mut flags) = (vec![T::ZERO; n], vec![Intersection::Invalid; n]);
             g.bench_function(BenchmarkId::from_parameter(v.name()), |b| {
                 b.iter(|| w.run(q, e, v == Variant::Scalar, &mut out, &mut flags).expect("lengths match"))
             });
         }
-        if q == TQuery::TriTri {
+        if q == Query::TriTri {
             bench_peer(&mut g, &w);
         }
         g.finish();

@@ -3,4 +3,4 @@
 //! The body lives in `tridist_scenes::fuzzing::intersect`, shared with the stable replay of
 //! `fuzz/regressions/intersect/` by `cargo test`.
 #![no_main]
-libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::intersect(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::fuzz("intersect", data));

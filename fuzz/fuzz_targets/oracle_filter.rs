@@ -6,4 +6,4 @@
 //! The body lives in `tridist_scenes::fuzzing::oracle_filter`, shared with the stable replay of
 //! `fuzz/regressions/oracle_filter/` by `cargo test`.
 #![no_main]
-libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::oracle_filter(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::fuzz("oracle_filter", data));

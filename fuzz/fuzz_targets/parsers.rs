@@ -4,4 +4,4 @@
 //! The body lives in `tridist_scenes::fuzzing::parsers`, shared with the stable replay of
 //! `fuzz/regressions/parsers/` by `cargo test`.
 #![no_main]
-libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::parsers(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::fuzz("parsers", data));

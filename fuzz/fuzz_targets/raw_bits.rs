@@ -6,4 +6,4 @@
 //! The body lives in `tridist_scenes::fuzzing::raw_bits`, shared with the stable replay of
 //! `fuzz/regressions/raw_bits/` by `cargo test`.
 #![no_main]
-libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::raw_bits(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::fuzz("raw_bits", data));

@@ -4,4 +4,4 @@
 //! The body lives in `tridist_scenes::fuzzing::within`, shared with the stable replay of
 //! `fuzz/regressions/within/` by `cargo test`.
 #![no_main]
-libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::within(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| tridist_scenes::fuzzing::fuzz("within", data));

@@ -1,23 +1,32 @@
-//! The batch driver: loads lanes from SoA columns, AoS slices or a broadcast primitive, runs one
-//! query over them, and stores the lanes the caller asked for. The tail of a batch goes through
-//! the same code: SoA columns are padded to a multiple of 8 lanes, AoS input is gathered into a
-//! padded lane buffer.
+//! The batch driver: one pipeline for every query.
+//!
+//! A batch is processed in chunks of [`CHUNK`] pairs. Stage 0 of the query's kernel runs on
+//! every pair, a vector of lanes at a time (SoA columns are loaded directly; AoS slices and a
+//! broadcast primitive are gathered); every lane's answer is written, and the indices of the
+//! pairs it did not accept (certificate wider than the tolerance) are collected. Those are then
+//! gathered into full vectors (lane compaction) for stage 1 when the kernel has one; what is
+//! still open goes to the full pipeline of the kernel's next query (brute force after PQP's
+//! undecided lanes, triangle-triangle distance after the cheap tests of within-margin and
+//! intersection), or, for f32
+//! input, is recomputed in f64 from the exactly widened input by the same instruction set's f64
+//! code, and finally, with the `exact` feature, by the exact oracle. Whatever is left is
+//! counted as uncertified (answered, with its interval).
+//!
+//! A pair's answer depends only on its own lanes (masks and selects, never on its neighbours),
+//! so it is the same in every lane position, in the tail, alone or in a batch (tested).
+//! Everything generic over the lane type is `#[inline(always)]` and runs inside the
+//! `#[target_feature]` entry points (`crate::arch`); the rarely taken escalation steps are out
+//! of line, once per precision and instruction set.
 
-use crate::algo::{self, Res, SelectExt};
+use crate::algo::{Kernel, Params};
+use crate::isa::Token;
 use crate::lanes::{Lanes, Mask, V3};
-use crate::real::Real;
+use crate::query::Query;
+use crate::real::{Precision, Real};
+use crate::types::{ClosestPoints, Intersection, Interval, PathCounts, Point};
 
-/// Which query a job runs (crate-private plumbing of [`crate::Engine`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum QueryKind {
-    SegSeg,
-    PointTri,
-    TriTri,
-    TriTriBrute,
-    Intersect,
-    Within,
-    Penalty,
-}
+/// Pairs per chunk: the most a stage ever gathers at once.
+pub(crate) const CHUNK: usize = 256;
 
 /// Where one side's primitives come from (K points each). Crate-private plumbing.
 #[derive(Clone, Copy)]
@@ -25,275 +34,551 @@ pub enum Src<'a, T> {
     /// Padded SoA columns: coordinate `j` (0..3K) of primitive `i` is `data[j * cap + base + i]`.
     Soa { data: &'a [T], cap: usize, base: usize, k: usize },
     /// AoS: primitive `i` is `flat[i*3K .. (i+1)*3K]`.
-    Aos { flat: &'a [T], len: usize, k: usize },
+    Aos { flat: &'a [T], k: usize },
     /// One primitive against every primitive of the other side.
     One { flat: &'a [T], k: usize },
 }
 
-/// Caller-provided outputs. Crate-private plumbing.
-pub enum DOut<'a, T> {
-    Real(&'a mut [T]),
-    Flag(&'a mut [Option<bool>]),
-}
-
-/// One batch query. Crate-private plumbing.
-pub struct Job<'a, T> {
-    pub query: QueryKind,
-    pub a: Src<'a, T>,
-    pub b: Src<'a, T>,
-    pub n: usize,
-    pub param: T,
-    pub d: DOut<'a, T>,
-    pub p: Option<&'a mut [[T; 3]]>,
-    pub q: Option<&'a mut [[T; 3]]>,
-    /// Penalty-method options and iteration counts (penalty query only).
-    pub penalty: crate::PenaltyOptions<T>,
-    pub iters: Option<&'a mut [u32]>,
-}
-
 impl<'a, T: Real> Src<'a, T> {
-    /// The same source starting at primitive `start` (for splitting a batch across threads).
+    /// The same source starting at primitive `start` (for splitting a batch across threads;
+    /// SoA splits must be multiples of 8 so that vector loads stay in the padded columns).
     pub(crate) fn from(self, start: usize) -> Src<'a, T> {
         match self {
             Src::Soa { data, cap, base, k } => Src::Soa { data, cap, base: base + start, k },
-            Src::Aos { flat, len, k } => Src::Aos { flat: &flat[start * 3 * k..], len: len - start, k },
+            Src::Aos { flat, k } => Src::Aos { flat: &flat[start * 3 * k..], k },
             one @ Src::One { .. } => one,
         }
     }
-    #[inline(always)]
-    fn k(&self) -> usize {
+
+    /// Points per primitive.
+    pub(crate) fn k(&self) -> usize {
         match *self {
             Src::Soa { k, .. } | Src::Aos { k, .. } | Src::One { k, .. } => k,
         }
     }
+
+    /// Coordinate `j` of primitive `i`.
     #[inline(always)]
-    fn coord<L: Lanes<S = T>>(&self, i: usize, j: usize) -> L {
+    pub(crate) fn at(&self, i: usize, j: usize) -> T {
         match *self {
-            Src::Soa { data, cap, base, .. } => L::load(&data[j * cap + base + i..]),
-            Src::One { flat, .. } => L::splat(flat[j]),
-            Src::Aos { flat, len, k } => {
-                if L::N == 1 {
-                    L::splat(flat[i * 3 * k + j])
-                } else {
-                    let mut buf = [T::ZERO; 8];
-                    for (l, slot) in buf.iter_mut().enumerate().take(L::N) {
-                        // Pad the tail with the last primitive (a valid, finite-if-input-is input).
-                        let ii = (i + l).min(len - 1);
-                        *slot = flat[ii * 3 * k + j];
-                    }
-                    L::load(&buf)
-                }
-            }
+            Src::Soa { data, cap, base, .. } => data[j * cap + base + i],
+            Src::Aos { flat, k } => flat[i * 3 * k + j],
+            Src::One { flat, .. } => flat[j],
         }
     }
-    #[inline(always)]
-    fn load<L: Lanes<S = T>>(&self, i: usize) -> [V3<L>; 3] {
-        let mut out = [V3::zero(); 3];
-        for (v, slot) in out.iter_mut().enumerate().take(self.k()) {
-            *slot = V3::new(self.coord(i, 3 * v), self.coord(i, 3 * v + 1), self.coord(i, 3 * v + 2));
+
+    /// Primitive `i` as points (unused slots repeat the first point).
+    #[cfg(feature = "exact")]
+    pub(crate) fn prim(&self, i: usize) -> [Point<T>; 3] {
+        let mut out = [[T::ZERO; 3]; 3];
+        for v in 0..3 {
+            let vv = if v < self.k() { v } else { 0 };
+            out[v] = [self.at(i, 3 * vv), self.at(i, 3 * vv + 1), self.at(i, 3 * vv + 2)];
         }
         out
     }
-}
 
-/// Segment-segment query on raw (unscaled) input.
-#[inline(always)]
-pub(crate) fn q_seg_seg<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> Res<L> {
-    let sc = algo::prescale([a[0], a[1], b[0], b[1]]);
-    let [p1, q1, p2, q2] = sc.pts;
-    algo::unscale(algo::seg_seg(p1, q1.sub(p1), p2, q2.sub(p2)), sc.p, sc.finite)
-}
-
-/// Point-triangle query on raw input (`a[0]` is the point).
-#[inline(always)]
-pub(crate) fn q_point_tri<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> Res<L> {
-    let sc = algo::prescale([a[0], b[0], b[1], b[2]]);
-    let [x, t0, t1, t2] = sc.pts;
-    algo::unscale(algo::point_triangle(x, t0, t1, t2), sc.p, sc.finite)
-}
-
-#[inline(always)]
-fn scale_tris<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> algo::Scaled<L, 6> {
-    algo::prescale([a[0], a[1], a[2], b[0], b[1], b[2]])
-}
-
-#[inline(always)]
-fn split<L: Lanes>(p: [V3<L>; 6]) -> ([V3<L>; 3], [V3<L>; 3]) {
-    ([p[0], p[1], p[2]], [p[3], p[4], p[5]])
-}
-
-/// Triangle-triangle distance on raw input (PQP, or brute force when `BRUTE`).
-#[inline(always)]
-pub(crate) fn q_tri_tri<L: Lanes, const BRUTE: bool>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> Res<L> {
-    let sc = scale_tris(a, b);
-    let (s, t) = split(sc.pts);
-    let r = if BRUTE { algo::tri_tri_brute(&s, &t) } else { algo::tri_tri_pqp(&s, &t) };
-    algo::unscale(r, sc.p, sc.finite)
-}
-
-/// Intersection on raw input, encoded as a distance: 0 = overlap, 1 = disjoint, NaN = invalid.
-#[inline(always)]
-pub(crate) fn q_intersect<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3]) -> Res<L> {
-    let sc = scale_tris(a, b);
-    let (s, t) = split(sc.pts);
-    let hit = algo::intersect(&s, &t);
-    let d = L::select(hit, L::zero(), L::one());
-    let d = L::select(sc.finite, d, L::splat(L::S::NAN));
-    Res { d, p: V3::zero(), q: V3::zero() }
-}
-
-/// Within-margin on raw input: the squared distance when it is at most `margin^2`, else +inf.
-/// Pairs whose bounding boxes are farther apart than the margin skip the distance query.
-#[inline(always)]
-pub(crate) fn q_within<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3], margin: L::S) -> Res<L> {
-    let sc = scale_tris(a, b);
-    let (s, t) = split(sc.pts);
-    let m = L::splat(margin).div(sc.p);
-    let m2 = m.mul(m);
-    let inf = L::splat(L::S::INFINITY);
-    // The box gap is a lower bound up to rounding; keep slack for
-    // the margin (relative) and for the rounding of the full query near contact (absolute, in
-    // prescaled units where S is about 1), so that no pair the full query puts within the
-    // margin is skipped.
-    let uu = L::splat(L::S::UNIT_ROUNDOFF);
-    let slack = L::one().add(uu.mul(L::splat(L::S::from_f64(16.0))));
-    let abs = uu.mul(L::splat(L::S::from_f64(64.0)));
-    let gap2 = algo::aabb_gap2(&s, &t);
-    // The verdict is the caller's: a squared distance that underflows to 0 in the caller's
-    // units is within a margin of 0 (fuzzing found subnormal pairs skipped by the prescaled box
-    // test that the full query puts at 0), so the box gap must also exceed the margin there.
-    let margin2 = L::splat(margin).mul(L::splat(margin));
-    let far = gap2.gt(m2.mul(slack).add(abs.mul(abs))).and(gap2.mul(sc.p.mul(sc.p)).gt(margin2));
-    if far.all() {
-        return algo::unscale(Res { d: inf, p: V3::zero(), q: V3::zero() }, sc.p, sc.finite);
-    }
-    let full = algo::unscale(algo::tri_tri_pqp(&s, &t), sc.p, sc.finite);
-    let beyond = far.or(full.d.gt(margin2));
-    L::select_res(beyond, Res { d: inf, p: full.p, q: full.q }, full)
-}
-
-#[inline(always)]
-fn store_lanes<L: Lanes>(v: L, out: &mut [L::S], i: usize, n: usize) {
-    if i + L::N <= n {
-        v.store(&mut out[i..]);
-    } else {
-        let mut buf = [L::S::ZERO; 8];
-        v.store(&mut buf);
-        out[i..n].copy_from_slice(&buf[..n - i]);
-    }
-}
-
-#[inline(always)]
-fn store_points<L: Lanes>(v: V3<L>, out: &mut [[L::S; 3]], i: usize, n: usize) {
-    let mut b = [[L::S::ZERO; 8]; 3];
-    v.x.store(&mut b[0]);
-    v.y.store(&mut b[1]);
-    v.z.store(&mut b[2]);
-    for l in 0..(n - i).min(L::N) {
-        out[i + l] = [b[0][l], b[1][l], b[2][l]];
-    }
-}
-
-/// One query on one group of lanes, selected by a constant (folded away in each instance, so
-/// no function pointer or closure stands between the `#[target_feature]` entry point and the
-/// intrinsics: everything inlines into the entry point).
-#[inline(always)]
-fn eval<L: Lanes, const Q: u8>(a: &[V3<L>; 3], b: &[V3<L>; 3], param: L::S) -> Res<L> {
-    match Q {
-        0 => q_seg_seg(a, b),
-        1 => q_point_tri(a, b),
-        2 => q_tri_tri::<L, false>(a, b),
-        3 => q_tri_tri::<L, true>(a, b),
-        4 => q_intersect(a, b),
-        _ => q_within(a, b, param),
-    }
-}
-
-/// Penalty method on raw input: result and iterations per lane.
-#[inline(always)]
-pub(crate) fn q_penalty<L: Lanes>(
-    a: &[V3<L>; 3],
-    b: &[V3<L>; 3],
-    o: crate::PenaltyOptions<L::S>,
-) -> (Res<L>, L) {
-    let sc = scale_tris(a, b);
-    let (s, t) = split(sc.pts);
-    let params =
-        algo::PenaltyParams { rho: o.rho, reg: o.reg, tol: o.tol, max_iter: o.max_iter, start: o.start };
-    let (r, it) = algo::tri_tri_penalty(&s, &t, params);
-    (algo::unscale(r, sc.p, sc.finite), it)
-}
-
-#[inline(always)]
-fn run_q<L: Lanes, const Q: u8, const PTS: bool>(job: &mut Job<'_, L::S>) {
-    let n = job.n;
-    let param = job.param;
-    let mut i = 0;
-    while i < n {
-        let a = job.a.load::<L>(i);
-        let b = job.b.load::<L>(i);
-        let r = if Q == 6 {
-            let (r, it) = q_penalty(&a, &b, job.penalty);
-            if let Some(out) = job.iters.as_deref_mut() {
-                let mut buf = [L::S::ZERO; 8];
-                it.store(&mut buf);
-                for l in 0..(n - i).min(L::N) {
-                    out[i + l] = buf[l].to_f64() as u32;
+    /// The primitives `i .. i + lanes` (`lanes <= L::N`; lanes beyond repeat the last one).
+    #[inline(always)]
+    fn load<L: Lanes<S = T>>(&self, kk: L::K, i: usize, lanes: usize) -> [V3<L>; 3] {
+        let mut coord = [L::splat(kk, T::ZERO); 9];
+        for (j, c) in coord.iter_mut().enumerate().take(3 * self.k()) {
+            *c = match *self {
+                // Columns are padded to a multiple of 8 with copies of the last primitive.
+                Src::Soa { data, cap, base, .. } => L::load(kk, &data[j * cap + base + i..]),
+                Src::One { flat, .. } => L::splat(kk, flat[j]),
+                Src::Aos { .. } => {
+                    let mut buf = [T::ZERO; 8];
+                    for (l, slot) in buf.iter_mut().enumerate().take(L::N) {
+                        *slot = self.at(i + l.min(lanes - 1), j);
+                    }
+                    L::load(kk, &buf)
                 }
+            };
+        }
+        to_points(&coord, self.k())
+    }
+
+    /// The primitives `idx[0..]` (at most `L::N`; lanes beyond repeat the last one).
+    #[inline(always)]
+    fn gather<L: Lanes<S = T>>(&self, kk: L::K, idx: &[u32]) -> [V3<L>; 3] {
+        let mut coord = [L::splat(kk, T::ZERO); 9];
+        for (j, c) in coord.iter_mut().enumerate().take(3 * self.k()) {
+            let mut buf = [T::ZERO; 8];
+            for (l, slot) in buf.iter_mut().enumerate().take(L::N) {
+                *slot = self.at(idx[l.min(idx.len() - 1)] as usize, j);
             }
-            r
+            *c = L::load(kk, &buf);
+        }
+        to_points(&coord, self.k())
+    }
+}
+
+#[inline(always)]
+fn to_points<L: Lanes>(c: &[L; 9], k: usize) -> [V3<L>; 3] {
+    let v = |m: usize| V3::new(c[3 * m], c[3 * m + 1], c[3 * m + 2]);
+    [v(0), if k > 1 { v(1) } else { v(0) }, if k > 2 { v(2) } else { v(0) }]
+}
+
+/// Caller-provided outputs (any subset), indexed by pair. Crate-private plumbing.
+#[derive(Default)]
+pub struct Sink<'a, T> {
+    pub d: Option<&'a mut [T]>,
+    pub verdict: Option<&'a mut [Intersection]>,
+    pub cp: Option<&'a mut [ClosestPoints<T>]>,
+    pub p: Option<&'a mut [Point<T>]>,
+    pub q: Option<&'a mut [Point<T>]>,
+    pub iv: Option<&'a mut [Interval<T>]>,
+    pub iters: Option<&'a mut [u32]>,
+    /// Accepted (certified within the tolerance) or not: the escalation steps read it back.
+    pub ok: Option<&'a mut [bool]>,
+}
+
+fn split<'a, X>(s: Option<&'a mut [X]>, at: usize) -> (Option<&'a mut [X]>, Option<&'a mut [X]>) {
+    match s {
+        Some(s) => {
+            let (x, y) = s.split_at_mut(at);
+            (Some(x), Some(y))
+        }
+        None => (None, None),
+    }
+}
+
+impl<'a, T: Real> Sink<'a, T> {
+    /// The outputs of pairs `..at` and `at..`.
+    pub(crate) fn split_at(self, at: usize) -> (Sink<'a, T>, Sink<'a, T>) {
+        let (d0, d1) = split(self.d, at);
+        let (v0, v1) = split(self.verdict, at);
+        let (c0, c1) = split(self.cp, at);
+        let (p0, p1) = split(self.p, at);
+        let (q0, q1) = split(self.q, at);
+        let (i0, i1) = split(self.iv, at);
+        let (t0, t1) = split(self.iters, at);
+        let (o0, o1) = split(self.ok, at);
+        (
+            Sink { d: d0, verdict: v0, cp: c0, p: p0, q: q0, iv: i0, iters: t0, ok: o0 },
+            Sink { d: d1, verdict: v1, cp: c1, p: p1, q: q1, iv: i1, iters: t1, ok: o1 },
+        )
+    }
+
+    #[inline(always)]
+    fn put(&mut self, i: usize, o: &Lane<T>) {
+        if let Some(s) = self.d.as_deref_mut() {
+            s[i] = o.d;
+        }
+        if let Some(s) = self.verdict.as_deref_mut() {
+            s[i] = o.verdict();
+        }
+        if let Some(s) = self.cp.as_deref_mut() {
+            s[i] = ClosestPoints { sqdist: o.d, p: o.p, q: o.q };
+        }
+        if let Some(s) = self.p.as_deref_mut() {
+            s[i] = o.p;
+        }
+        if let Some(s) = self.q.as_deref_mut() {
+            s[i] = o.q;
+        }
+        if let Some(s) = self.iv.as_deref_mut() {
+            s[i] = Interval { lo: o.lo, hi: o.hi };
+        }
+        if let Some(s) = self.iters.as_deref_mut() {
+            s[i] = o.it;
+        }
+        if let Some(s) = self.ok.as_deref_mut() {
+            s[i] = o.ok;
+        }
+    }
+}
+
+/// One pair's answer.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Lane<T> {
+    pub d: T,
+    pub p: Point<T>,
+    pub q: Point<T>,
+    pub lo: T,
+    pub hi: T,
+    pub ok: bool,
+    pub it: u32,
+}
+
+impl<T: Real> Lane<T> {
+    /// The intersection verdict of a distance answer: disjoint when a positive lower bound is
+    /// certain, intersecting when within the tolerance of contact, else (uncertified) the
+    /// answer's own zero test.
+    pub(crate) fn verdict(&self) -> Intersection {
+        if !(self.d == self.d) {
+            Intersection::Invalid
+        } else if self.lo > T::ZERO {
+            Intersection::Disjoint
+        } else if self.ok || self.d == T::ZERO {
+            Intersection::Intersecting
         } else {
-            eval::<L, Q>(&a, &b, param)
-        };
-        match &mut job.d {
-            DOut::Real(out) => store_lanes(r.d, out, i, n),
-            DOut::Flag(out) => {
-                let mut buf = [L::S::ZERO; 8];
-                r.d.store(&mut buf);
-                for l in 0..(n - i).min(L::N) {
-                    let d = buf[l];
-                    out[i + l] = if d == L::S::ZERO {
-                        Some(true)
-                    } else if d == L::S::ONE {
-                        Some(false)
-                    } else {
-                        None
-                    };
-                }
-            }
+            Intersection::Disjoint
         }
-        if PTS {
-            if let Some(p) = job.p.as_deref_mut() {
-                store_points(r.p, p, i, n);
-            }
-            if let Some(q) = job.q.as_deref_mut() {
-                store_points(r.q, q, i, n);
-            }
-        }
-        i += L::N;
     }
 }
 
-/// Runs a job with lane type `L`. Instantiated once per ISA and precision.
+/// Indices of the pairs of a chunk still open after a stage, with the answer they had (squared
+/// distance and closest points, for the tight re-certification).
+struct Pending<T> {
+    idx: [u32; CHUNK],
+    ans: [[T; 7]; CHUNK],
+    len: usize,
+}
+
+impl<T: Real> Pending<T> {
+    fn new() -> Self {
+        Pending { idx: [0; CHUNK], ans: [[T::ZERO; 7]; CHUNK], len: 0 }
+    }
+    #[inline(always)]
+    fn push(&mut self, i: usize) {
+        self.idx[self.len] = i as u32;
+        self.len += 1;
+    }
+    #[inline(always)]
+    fn push_answer(&mut self, i: usize, l: &Lane<T>) {
+        self.ans[self.len] = [l.d, l.p[0], l.p[1], l.p[2], l.q[0], l.q[1], l.q[2]];
+        self.push(i);
+    }
+    fn as_slice(&self) -> &[u32] {
+        &self.idx[..self.len]
+    }
+}
+
+/// One batch query. Crate-private plumbing.
+pub struct Job<'a, T> {
+    pub query: Query,
+    pub a: Src<'a, T>,
+    pub b: Src<'a, T>,
+    pub n: usize,
+    pub prm: Params<T>,
+    pub sink: Sink<'a, T>,
+    pub counts: PathCounts,
+    /// Recompute uncertified f32 pairs in f64.
+    pub widen: bool,
+    /// Recompute uncertified pairs exactly (feature `exact`).
+    pub exact: bool,
+}
+
+/// Runs `job` with lane type `L` and the kernel `K` of `job.query`. Instantiated once per
+/// query, instruction set and precision, inside its `#[target_feature]` entry point.
 #[inline(always)]
-pub(crate) fn run<L: Lanes>(job: &mut Job<'_, L::S>) {
-    let pts = job.p.is_some() || job.q.is_some();
-    macro_rules! go {
-        ($q:literal) => {
-            if pts {
-                run_q::<L, $q, true>(job)
-            } else {
-                run_q::<L, $q, false>(job)
+pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
+    let n = job.n;
+    let mut start = 0;
+    while start < n {
+        let end = (start + CHUNK).min(n);
+        let mut open = Pending::new();
+        pass::<L, K, 0>(kk, job, start, end, None, &mut open);
+        job.counts.pairs += (end - start) as u64;
+        if K::NEXT == Some(Query::TriTri) {
+            // within-margin and intersection: decided by their own cheap test
+            job.counts.prefiltered += (end - start - open.len) as u64;
+        }
+        if K::RECERT && open.len > 0 {
+            job.counts.recertified += open.len as u64;
+            let mut still = Pending::new();
+            recert::<L, K>(kk, job, &open, &mut still);
+            open = still;
+        }
+        if K::STAGES > 1 && open.len > 0 {
+            job.counts.compacted += open.len as u64;
+            let mut still = Pending::new();
+            pass::<L, K, 1>(kk, job, 0, 0, Some(open.as_slice()), &mut still);
+            open = still;
+        }
+        if open.len > 0 {
+            escalate(kk, job, K::NEXT, K::WIDEN, &mut open);
+        }
+        start = end;
+    }
+}
+
+/// Runs stage `ST` of `K` on pairs `start..end` (or on `idx`, gathered), writes every pair's
+/// answer and collects the ones not accepted.
+#[inline(always)]
+fn pass<L: Lanes, K: Kernel, const ST: u8>(
+    kk: L::K,
+    job: &mut Job<'_, L::S>,
+    start: usize,
+    end: usize,
+    idx: Option<&[u32]>,
+    open: &mut Pending<L::S>,
+) {
+    let groups = match idx {
+        Some(ix) => ix.len().div_ceil(L::N),
+        None => (end - start).div_ceil(L::N),
+    };
+    for g in 0..groups {
+        let mut ids = [0u32; 8];
+        let (a, b, lanes) = match idx {
+            Some(ix) => {
+                let part = &ix[g * L::N..((g + 1) * L::N).min(ix.len())];
+                ids[..part.len()].copy_from_slice(part);
+                (job.a.gather::<L>(kk, part), job.b.gather::<L>(kk, part), part.len())
+            }
+            None => {
+                let i = start + g * L::N;
+                let lanes = L::N.min(end - i);
+                for (l, id) in ids.iter_mut().enumerate().take(lanes) {
+                    *id = (i + l) as u32;
+                }
+                (job.a.load::<L>(kk, i, lanes), job.b.load::<L>(kk, i, lanes), lanes)
             }
         };
+        let o = K::stage::<L, ST>(&a, &b, &job.prm);
+        write::<L>(job, &o, &ids[..lanes], open);
     }
-    match job.query {
-        QueryKind::SegSeg => go!(0),
-        QueryKind::PointTri => go!(1),
-        QueryKind::TriTri => go!(2),
-        QueryKind::TriTriBrute => go!(3),
-        QueryKind::Intersect => run_q::<L, 4, false>(job),
-        QueryKind::Within => go!(5),
-        QueryKind::Penalty => go!(6),
+}
+
+/// Writes every lane's answer and collects (with their answers) the ones not accepted.
+#[inline(always)]
+fn write<L: Lanes>(job: &mut Job<'_, L::S>, o: &crate::algo::Out<L>, ids: &[u32], open: &mut Pending<L::S>) {
+    let mut buf = [[L::S::ZERO; 8]; 10];
+    for (slot, v) in buf.iter_mut().zip([o.d, o.p.x, o.p.y, o.p.z, o.q.x, o.q.y, o.q.z, o.lo, o.hi, o.it]) {
+        v.store(slot);
+    }
+    let ok = o.ok.bits();
+    for (l, &id) in ids.iter().enumerate() {
+        let lane = Lane {
+            d: buf[0][l],
+            p: [buf[1][l], buf[2][l], buf[3][l]],
+            q: [buf[4][l], buf[5][l], buf[6][l]],
+            lo: buf[7][l],
+            hi: buf[8][l],
+            ok: ok >> l & 1 == 1,
+            it: buf[9][l].to_f64() as u32,
+        };
+        job.sink.put(id as usize, &lane);
+        if !lane.ok {
+            open.push_answer(id as usize, &lane);
+        }
+    }
+}
+
+/// The tight re-certification of the `open` pairs' answers (gathered into full vectors).
+#[inline(always)]
+fn recert<L: Lanes, K: Kernel>(
+    kk: L::K,
+    job: &mut Job<'_, L::S>,
+    open: &Pending<L::S>,
+    still: &mut Pending<L::S>,
+) {
+    let ix = open.as_slice();
+    for g in 0..ix.len().div_ceil(L::N) {
+        let (lo, hi) = (g * L::N, ((g + 1) * L::N).min(ix.len()));
+        let part = &ix[lo..hi];
+        let (a, b) = (job.a.gather::<L>(kk, part), job.b.gather::<L>(kk, part));
+        let mut cols = [[L::S::ZERO; 8]; 7];
+        for l in 0..L::N {
+            let ans = &open.ans[lo + l.min(part.len() - 1)];
+            for (c, col) in cols.iter_mut().enumerate() {
+                col[l] = ans[c];
+            }
+        }
+        // (no closure: closures compile without the entry point's target features)
+        let mut v = [L::splat(kk, L::S::ZERO); 7];
+        for (x, col) in v.iter_mut().zip(&cols) {
+            *x = L::load(kk, col);
+        }
+        let (d, p, q) = (v[0], V3::new(v[1], v[2], v[3]), V3::new(v[4], v[5], v[6]));
+        let o = match (K::KA, K::KB) {
+            (2, 2) => crate::algo::recertify::<L, 2, 2>(&a, &b, d, p, q, &job.prm),
+            (1, 3) => crate::algo::recertify::<L, 1, 3>(&a, &b, d, p, q, &job.prm),
+            _ => crate::algo::recertify::<L, 3, 3>(&a, &b, d, p, q, &job.prm),
+        };
+        write::<L>(job, &o, part, still);
+    }
+}
+
+/// The steps after a kernel's own stages, for the pairs still open: the full pipeline of the
+/// next query (brute force after PQP; triangle-triangle distance after the cheap tests of
+/// within-margin and intersection), or recomputation in f64 (f32 input), then the exact oracle.
+/// Out of line: rare, and one copy per precision and instruction set.
+#[inline(never)]
+fn escalate<T: Real, Tk: Token>(
+    tk: Tk,
+    job: &mut Job<'_, T>,
+    next: Option<Query>,
+    widen: bool,
+    open: &mut Pending<T>,
+) {
+    if let Some(next) = next {
+        job.counts.delegated += open.len as u64;
+        rerun::<T, T, Tk>(tk, job, next, job.widen, job.exact, open);
+    } else if widen && job.widen && T::PRECISION == Precision::F32 {
+        job.counts.widened += open.len as u64;
+        let q = job.query;
+        rerun::<T, f64, Tk>(tk, job, q, false, false, open);
+    }
+    if job.exact && open.len > 0 {
+        exact(job, open);
+    }
+    job.counts.uncertified += open.len as u64;
+}
+
+/// Reruns the `open` pairs of `job` as a sub-job of `query` in precision `W` (gathered into
+/// AoS buffers, exact conversion when widening), converts and post-processes the answers for
+/// `job.query`, writes them, and keeps open the ones the sub-job did not accept.
+fn rerun<T: Real, W: Real, Tk: Token>(
+    tk: Tk,
+    job: &mut Job<'_, T>,
+    query: Query,
+    widen: bool,
+    exact: bool,
+    open: &mut Pending<T>,
+) {
+    let n = open.len;
+    let (ka, kb) = (job.a.k(), job.b.k());
+    let mut fa = Vec::with_capacity(n * 3 * ka);
+    let mut fb = Vec::with_capacity(n * 3 * kb);
+    for &i in open.as_slice() {
+        for j in 0..3 * ka {
+            fa.push(W::from_f64(job.a.at(i as usize, j).to_f64()));
+        }
+        for j in 0..3 * kb {
+            fb.push(W::from_f64(job.b.at(i as usize, j).to_f64()));
+        }
+    }
+    let mut d = vec![W::ZERO; n];
+    let mut p = vec![[W::ZERO; 3]; n];
+    let mut q = vec![[W::ZERO; 3]; n];
+    let mut iv = vec![Interval::default(); n];
+    let mut ok = vec![false; n];
+    let mut sub = Job {
+        query,
+        a: Src::Aos { flat: &fa, k: ka },
+        b: Src::Aos { flat: &fb, k: kb },
+        n,
+        prm: job.prm.convert::<W>(),
+        sink: Sink {
+            d: Some(&mut d),
+            p: Some(&mut p),
+            q: Some(&mut q),
+            iv: Some(&mut iv),
+            ok: Some(&mut ok),
+            ..Sink::default()
+        },
+        counts: PathCounts::default(),
+        widen,
+        exact,
+    };
+    W::run_with(tk, &mut sub);
+    let c = sub.counts;
+    job.counts.compacted += c.compacted;
+    job.counts.recertified += c.recertified;
+    job.counts.widened += c.widened;
+    job.counts.exact += c.exact;
+    let ids: Vec<u32> = open.as_slice().to_vec();
+    open.len = 0;
+    let cv = |x: W| T::from_f64(x.to_f64());
+    let cv3 = |x: Point<W>| x.map(cv);
+    for (m, &i) in ids.iter().enumerate() {
+        // Outward rounding of the interval when narrowing.
+        let lo = {
+            let l = cv(iv[m].lo);
+            if l.to_f64() > iv[m].lo.to_f64() {
+                l.step(false)
+            } else {
+                l
+            }
+        };
+        let hi = {
+            let h = cv(iv[m].hi);
+            if h.to_f64() < iv[m].hi.to_f64() {
+                h.step(true)
+            } else {
+                h
+            }
+        };
+        let lane = post(
+            job.query,
+            job.prm.margin,
+            Lane { d: cv(d[m]), p: cv3(p[m]), q: cv3(q[m]), lo: lo.max_f(T::ZERO), hi, ok: ok[m], it: 0 },
+        );
+        job.sink.put(i as usize, &lane);
+        if !lane.ok {
+            open.push(i as usize);
+        }
+    }
+}
+
+/// Query-specific post-processing of a full distance answer: within-margin keeps it only
+/// when within the margin (`+inf` beyond).
+fn post<T: Real>(query: Query, margin: T, mut lane: Lane<T>) -> Lane<T> {
+    if query == Query::Within && !(lane.d <= margin * margin) && lane.d == lane.d {
+        lane.d = T::INFINITY;
+    }
+    lane
+}
+
+/// One pair without a batch set-up (the single queries): a job of one pair on the portable
+/// entry points, so the scalar code is compiled once for batches and single queries alike.
+pub(crate) fn single<T: Real>(
+    query: Query,
+    a: &[Point<T>; 3],
+    b: &[Point<T>; 3],
+    prm: &Params<T>,
+    exact: bool,
+) -> Lane<T> {
+    let (ka, kb) = query.arity();
+    let (mut d, mut p, mut q) = ([T::ZERO], [[T::ZERO; 3]], [[T::ZERO; 3]]);
+    let (mut iv, mut ok, mut it, mut v) = ([Interval::default()], [false], [0u32], [Intersection::Invalid]);
+    let mut job = Job {
+        query,
+        a: Src::One { flat: a[..ka].as_flattened(), k: ka },
+        b: Src::One { flat: b[..kb].as_flattened(), k: kb },
+        n: 1,
+        prm: *prm,
+        sink: Sink {
+            d: Some(&mut d),
+            p: Some(&mut p),
+            q: Some(&mut q),
+            iv: Some(&mut iv),
+            ok: Some(&mut ok),
+            iters: Some(&mut it),
+            verdict: Some(&mut v),
+            cp: None,
+        },
+        counts: PathCounts::default(),
+        widen: true,
+        exact,
+    };
+    T::run_with(crate::isa::Portable, &mut job);
+    Lane { d: d[0], p: p[0], q: q[0], lo: iv[0].lo, hi: iv[0].hi, ok: ok[0], it: it[0] }
+}
+
+/// Exact answers for the `open` pairs (feature `exact`).
+#[cfg(feature = "exact")]
+fn exact<T: Real>(job: &mut Job<'_, T>, open: &mut Pending<T>) {
+    for &i in open.as_slice() {
+        let (a, b) = (job.a.prim(i as usize), job.b.prim(i as usize));
+        let e = crate::exact::answer(job.a.k(), &a, job.b.k(), &b);
+        let lane = match e {
+            Some(x) => Lane { d: x.d, p: x.p, q: x.q, lo: x.lo, hi: x.hi, ok: true, it: 0 },
+            None => continue,
+        };
+        let lane = post(job.query, job.prm.margin, lane);
+        job.sink.put(i as usize, &lane);
+        job.counts.exact += 1;
+    }
+    open.len = 0;
+}
+
+#[cfg(not(feature = "exact"))]
+fn exact<T: Real>(_: &mut Job<'_, T>, _: &mut Pending<T>) {}
+
+/// `max` that keeps `self` for NaN.
+trait MaxF {
+    fn max_f(self, o: Self) -> Self;
+}
+impl<T: Real> MaxF for T {
+    fn max_f(self, o: T) -> T {
+        if self < o {
+            o
+        } else {
+            self
+        }
     }
 }

@@ -3,7 +3,16 @@
 //!
 //! Algorithms in [`crate::algo`] are written once over [`Lanes`]; the ISA layer
 //! ([`crate::arch`]) only supplies the vector types and the `#[target_feature]` entry points.
+//!
+//! Soundness: a lane type names a capability token ([`Lanes::K`]) and every way to make a
+//! value from nothing ([`Lanes::splat`], [`Lanes::load`]) takes one. A token of an instruction
+//! set exists only if runtime detection found it (`crate::isa`), and every vector value carries
+//! its token (a zero-sized field), so any value of a SIMD lane type proves that the CPU runs its
+//! instructions: the vector methods are safe to call from anywhere in the crate. Inlined into a
+//! `#[target_feature]` entry point they compile to single instructions; called from elsewhere
+//! they would be slow, never undefined.
 
+use crate::isa::Token;
 use crate::real::Real;
 
 /// A lane mask: the result of a comparison, one boolean per lane.
@@ -15,6 +24,8 @@ pub(crate) trait Mask: Copy {
     fn not(self) -> Self;
     fn all(self) -> bool;
     fn any(self) -> bool;
+    /// One bit per lane, lane 0 in bit 0.
+    fn bits(self) -> u32;
     #[inline(always)]
     #[allow(dead_code)]
     fn none(self) -> bool {
@@ -27,12 +38,16 @@ pub(crate) trait Mask: Copy {
 pub(crate) trait Lanes: Copy {
     type S: Real;
     type M: Mask;
+    /// The capability token of the instruction set (see the module docs).
+    type K: Token;
     const N: usize;
     /// Is `mul_add` fused (one rounding)?
     const FMA: bool;
-    fn splat(s: Self::S) -> Self;
+    /// The token this value carries.
+    fn token(self) -> Self::K;
+    fn splat(k: Self::K, s: Self::S) -> Self;
     /// Loads the first `N` values of `src` (panics if `src` is shorter).
-    fn load(src: &[Self::S]) -> Self;
+    fn load(k: Self::K, src: &[Self::S]) -> Self;
     /// Stores into the first `N` values of `dst` (panics if `dst` is shorter).
     fn store(self, dst: &mut [Self::S]);
     fn add(self, o: Self) -> Self;
@@ -65,22 +80,19 @@ pub(crate) trait Lanes: Copy {
     fn ge(self, o: Self) -> Self::M {
         o.le(self)
     }
+    /// `s` in every lane, with `self`'s token.
     #[inline(always)]
-    fn zero() -> Self {
-        Self::splat(Self::S::ZERO)
-    }
-    #[inline(always)]
-    fn one() -> Self {
-        Self::splat(Self::S::ONE)
+    fn like(self, s: Self::S) -> Self {
+        Self::splat(self.token(), s)
     }
     #[inline(always)]
     fn clamp01(self) -> Self {
         // max first: NaN never reaches here for finite input (divisions are guarded).
-        self.max(Self::zero()).min(Self::one())
+        self.max(self.like(Self::S::ZERO)).min(self.like(Self::S::ONE))
     }
     #[inline(always)]
     fn neg(self) -> Self {
-        Self::zero().sub(self)
+        self.like(Self::S::ZERO).sub(self)
     }
     /// `self * b - c * d` with about one rounding error relative to the result, even under
     /// cancellation: Kahan's algorithm with a fused multiply-add, Dekker's exact products
@@ -99,11 +111,30 @@ pub(crate) trait Lanes: Copy {
             p.sub(q).add(ep.sub(eq))
         }
     }
+    /// Knuth's TwoSum: `s + e == self + o` exactly (round to nearest, no overflow).
+    #[inline(always)]
+    fn two_sum(self, o: Self) -> (Self, Self) {
+        let s = self.add(o);
+        let bb = s.sub(self);
+        let e = self.sub(s.sub(bb)).add(o.sub(bb));
+        (s, e)
+    }
+    /// TwoProduct: `p + e == self * o` exactly (unless `e` underflows): one fused multiply-add,
+    /// Dekker's product without FMA.
+    #[inline(always)]
+    fn two_prod(self, o: Self) -> (Self, Self) {
+        if Self::FMA {
+            let p = self.mul(o);
+            (p, self.mul_add(o, p.neg()))
+        } else {
+            two_prod(self, o)
+        }
+    }
     /// `self / max(d, MIN_POSITIVE)` for a divisor that is mathematically non-negative: never
     /// 0/0, and a divisor that rounded below zero is treated as tiny.
     #[inline(always)]
     fn safe_div(self, d: Self) -> Self {
-        self.div(d.max(Self::splat(Self::S::MIN_POSITIVE)))
+        self.div(d.max(self.like(Self::S::MIN_POSITIVE)))
     }
 }
 
@@ -111,7 +142,10 @@ pub(crate) trait Lanes: Copy {
 #[inline(always)]
 fn two_prod<L: Lanes>(a: L, b: L) -> (L, L) {
     // 2^ceil(p/2) + 1: 4097 for f32, 134217729 for f64.
-    let split = L::splat(L::S::from_f64(if L::S::NAME == "f32" { 4097.0 } else { 134_217_729.0 }));
+    let split = a.like(L::S::from_f64(match L::S::PRECISION {
+        crate::Precision::F32 => 4097.0,
+        crate::Precision::F64 => 134_217_729.0,
+    }));
     let p = a.mul(b);
     let (ah, al) = halves(a, split);
     let (bh, bl) = halves(b, split);
@@ -152,6 +186,10 @@ impl Mask for bool {
     fn any(self) -> bool {
         self
     }
+    #[inline(always)]
+    fn bits(self) -> u32 {
+        self as u32
+    }
 }
 
 macro_rules! scalar_lanes {
@@ -159,14 +197,19 @@ macro_rules! scalar_lanes {
         impl Lanes for $t {
             type S = $t;
             type M = bool;
+            type K = crate::isa::Portable;
             const N: usize = 1;
             const FMA: bool = false;
             #[inline(always)]
-            fn splat(s: $t) -> Self {
+            fn token(self) -> Self::K {
+                crate::isa::Portable
+            }
+            #[inline(always)]
+            fn splat(_: Self::K, s: $t) -> Self {
                 s
             }
             #[inline(always)]
-            fn load(src: &[$t]) -> Self {
+            fn load(_: Self::K, src: &[$t]) -> Self {
                 src[0]
             }
             #[inline(always)]
@@ -240,7 +283,8 @@ macro_rules! scalar_lanes {
             }
             #[inline(always)]
             fn exponent(self) -> Self {
-                <$t as Real>::from_bits_u64(self.to_bits() as u64 & <$t as Real>::EXP_MASK_BITS)
+                use crate::real::sealed::Sealed;
+                <$t>::from_bits64(self.bits() & <$t>::EXP_MASK)
             }
         }
     };
@@ -262,12 +306,20 @@ impl<L: Lanes> V3<L> {
         V3 { x, y, z }
     }
     #[inline(always)]
-    pub fn zero() -> Self {
-        V3::new(L::zero(), L::zero(), L::zero())
+    pub fn splat(x: L) -> Self {
+        V3::new(x, x, x)
     }
     #[inline(always)]
     pub fn sub(self, o: Self) -> Self {
         V3::new(self.x.sub(o.x), self.y.sub(o.y), self.z.sub(o.z))
+    }
+    #[inline(always)]
+    pub fn add(self, o: Self) -> Self {
+        V3::new(self.x.add(o.x), self.y.add(o.y), self.z.add(o.z))
+    }
+    #[inline(always)]
+    pub fn neg(self) -> Self {
+        V3::new(self.x.neg(), self.y.neg(), self.z.neg())
     }
     #[inline(always)]
     pub fn scale(self, s: L) -> Self {
@@ -314,8 +366,80 @@ impl<L: Lanes> V3<L> {
     pub fn norm_inf(self) -> L {
         self.x.abs().max(self.y.abs()).max(self.z.abs())
     }
+    /// The same direction scaled by a power of two (exactly) so that its largest component is
+    /// in [1, 2); 0 stays 0. Used as a projection direction, its norm cannot underflow or
+    /// overflow (a direction built from products of small differences can).
+    #[inline(always)]
+    pub fn unit_pow2(self) -> Self {
+        let k = Cx::of(self.x);
+        let m = self.norm_inf().max(k.splat(L::S::MIN_POSITIVE)).exponent();
+        // 1/m is exact (a power of two); m >= MIN_POSITIVE keeps it finite, and a subnormal
+        // direction scaled by 2^126 (2^1022) is exact too.
+        let r = k.one().div(m);
+        // two steps for subnormal input: 1/MIN_POSITIVE alone leaves it below 1
+        let v = self.scale(r);
+        let m2 = v.norm_inf().max(k.splat(L::S::MIN_POSITIVE)).exponent();
+        v.scale(k.one().div(m2))
+    }
     #[inline(always)]
     pub fn select(m: L::M, t: Self, f: Self) -> Self {
         V3::new(L::select(m, t.x, f.x), L::select(m, t.y, f.y), L::select(m, t.z, f.z))
+    }
+}
+
+/// Constants of a lane type, made with a token taken from a value already in hand (see the
+/// module docs): `let k = Cx::of(x); k.c(2.0)`.
+#[derive(Clone, Copy)]
+pub(crate) struct Cx<L: Lanes>(pub L::K);
+
+impl<L: Lanes> Cx<L> {
+    /// The token of `x`.
+    #[inline(always)]
+    pub fn of(x: L) -> Self {
+        Cx(x.token())
+    }
+    #[inline(always)]
+    pub fn splat(self, s: L::S) -> L {
+        L::splat(self.0, s)
+    }
+    /// A constant given in f64 (rounded to the precision).
+    #[inline(always)]
+    pub fn c(self, x: f64) -> L {
+        self.splat(L::S::from_f64(x))
+    }
+    #[inline(always)]
+    pub fn zero(self) -> L {
+        self.splat(L::S::ZERO)
+    }
+    #[inline(always)]
+    pub fn one(self) -> L {
+        self.splat(L::S::ONE)
+    }
+    /// The unit roundoff.
+    #[inline(always)]
+    pub fn u(self) -> L {
+        self.splat(L::S::UNIT_ROUNDOFF)
+    }
+    #[inline(always)]
+    pub fn inf(self) -> L {
+        self.splat(L::S::INFINITY)
+    }
+    #[inline(always)]
+    pub fn nan(self) -> L {
+        self.splat(L::S::NAN)
+    }
+    /// All lanes true.
+    #[inline(always)]
+    pub fn yes(self) -> L::M {
+        self.zero().le(self.zero())
+    }
+    /// All lanes false.
+    #[inline(always)]
+    pub fn no(self) -> L::M {
+        self.zero().lt(self.zero())
+    }
+    #[inline(always)]
+    pub fn v0(self) -> V3<L> {
+        V3::splat(self.zero())
     }
 }

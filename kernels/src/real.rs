@@ -3,14 +3,89 @@
 use core::fmt::{Debug, Display};
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-/// The seal, which also carries the batch plumbing: `Sealed` lives in a private module, so no
-/// other crate can implement or name it, and its method takes a [`crate::driver::Job`], a type
-/// in a private module that no other crate can construct. Safe code outside this crate cannot
-/// reach the `#[target_feature]` entry points.
+/// A working precision, as a value (reports, the CLI, error messages).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Precision {
+    /// IEEE binary32.
+    F32,
+    /// IEEE binary64.
+    F64,
+}
+
+impl Precision {
+    /// Both precisions.
+    pub const ALL: [Precision; 2] = [Precision::F32, Precision::F64];
+
+    /// `"f32"` or `"f64"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Precision::F32 => "f32",
+            Precision::F64 => "f64",
+        }
+    }
+
+    /// Parses [`Precision::name`].
+    pub fn parse(s: &str) -> Option<Precision> {
+        Precision::ALL.into_iter().find(|p| p.name() == s)
+    }
+
+    /// The unit roundoff `u`: 2^-24 or 2^-53.
+    pub fn unit_roundoff(self) -> f64 {
+        match self {
+            Precision::F32 => f32::EPSILON as f64 / 2.0,
+            Precision::F64 => f64::EPSILON / 2.0,
+        }
+    }
+}
+
+impl Display for Precision {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The seal. It lives in a crate-private module, so no other crate can implement or name it;
+/// it also carries what the kernels need of a precision and users do not (bit patterns, the
+/// batch plumbing).
 pub(crate) mod sealed {
-    pub(crate) trait Sealed: Sized {
-        /// Runs a batch job on an ISA variant (checks availability itself).
+    pub(crate) trait Sealed: Sized + Copy {
+        /// Keeps only the exponent bits (power-of-two scaling).
+        const EXP_MASK: u64;
+        /// Smallest positive subnormal.
+        const TINY: Self;
+        /// Raw bits, widened.
+        fn bits(self) -> u64;
+        /// From raw bits (the low 32 for f32).
+        fn from_bits64(b: u64) -> Self;
+        /// Runs a batch job on an instruction-set variant (checks availability itself).
         fn run_job(isa: crate::Isa, job: &mut crate::driver::Job<'_, Self>);
+        /// One pair without a batch (the single queries).
+        fn single(
+            query: crate::Query,
+            a: &[[Self; 3]; 3],
+            b: &[[Self; 3]; 3],
+            prm: &crate::algo::Params<Self>,
+            exact: bool,
+        ) -> crate::driver::Lane<Self>;
+        /// Runs a batch job with a capability token (escalation sub-jobs).
+        fn run_with<K: crate::isa::Token>(k: K, job: &mut crate::driver::Job<'_, Self>);
+        /// The next value toward -inf (toward +inf when `up`); identity on inf and NaN.
+        fn step(self, up: bool) -> Self {
+            let b = self.bits();
+            let neg = b >> (Self::WIDTH - 1) & 1 == 1;
+            let zero = b & !(1u64 << (Self::WIDTH - 1)) == 0;
+            let nonfinite = b & Self::EXP_MASK == Self::EXP_MASK;
+            if nonfinite {
+                return self;
+            }
+            if zero {
+                let tiny = Self::TINY.bits();
+                return Self::from_bits64(if up { tiny } else { tiny | 1u64 << (Self::WIDTH - 1) });
+            }
+            Self::from_bits64(if up != neg { b + 1 } else { b - 1 })
+        }
+        /// Bits in the type.
+        const WIDTH: u32;
     }
 }
 
@@ -35,6 +110,8 @@ pub trait Real:
     + Div<Output = Self>
     + Neg<Output = Self>
 {
+    /// Which precision this is.
+    const PRECISION: Precision;
     /// Unit roundoff `u` (2^-24 for f32, 2^-53 for f64).
     const UNIT_ROUNDOFF: Self;
     /// Smallest positive normal number.
@@ -49,27 +126,20 @@ pub trait Real:
     const ZERO: Self;
     /// One.
     const ONE: Self;
-    /// A mask that keeps only the exponent bits (used for power-of-two scaling).
-    const EXP_MASK_BITS: u64;
-    /// Name used in reports: "f32" or "f64".
-    const NAME: &'static str;
-    /// Conversion from f64 (rounding).
+    /// Conversion from f64 (rounding to nearest).
     fn from_f64(x: f64) -> Self;
     /// Conversion to f64 (exact).
     fn to_f64(self) -> f64;
     /// Is the value finite?
     fn is_finite(self) -> bool;
-    /// Raw bits, widened to u64.
-    fn to_bits_u64(self) -> u64;
-    /// From raw bits (the low 32 bits for f32).
-    fn from_bits_u64(b: u64) -> Self;
-    /// Square root.
+    /// Square root (correctly rounded).
     fn sqrt(self) -> Self;
 }
 
 macro_rules! impl_real {
-    ($t:ty, $bits:ty, $mask:expr, $name:expr, $run:ident) => {
+    ($t:ty, $bits:ty, $mask:expr, $prec:expr, $run:ident, $tokrun:ident) => {
         impl Real for $t {
+            const PRECISION: Precision = $prec;
             const UNIT_ROUNDOFF: Self = <$t>::EPSILON / 2.0;
             const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
             const MAX: Self = <$t>::MAX;
@@ -77,8 +147,6 @@ macro_rules! impl_real {
             const NAN: Self = <$t>::NAN;
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
-            const EXP_MASK_BITS: u64 = $mask;
-            const NAME: &'static str = $name;
             #[inline(always)]
             fn from_f64(x: f64) -> Self {
                 x as $t
@@ -92,24 +160,55 @@ macro_rules! impl_real {
                 <$t>::is_finite(self)
             }
             #[inline(always)]
-            fn to_bits_u64(self) -> u64 {
-                self.to_bits() as u64
-            }
-            #[inline(always)]
-            fn from_bits_u64(b: u64) -> Self {
-                <$t>::from_bits(b as $bits)
-            }
-            #[inline(always)]
             fn sqrt(self) -> Self {
                 <$t>::sqrt(self)
             }
         }
         impl sealed::Sealed for $t {
+            const EXP_MASK: u64 = $mask;
+            const TINY: Self = <$t>::from_bits(1);
+            const WIDTH: u32 = <$bits>::BITS;
+            #[inline(always)]
+            fn bits(self) -> u64 {
+                self.to_bits() as u64
+            }
+            #[inline(always)]
+            fn from_bits64(b: u64) -> Self {
+                <$t>::from_bits(b as $bits)
+            }
             fn run_job(isa: crate::Isa, job: &mut crate::driver::Job<'_, Self>) {
-                crate::dispatch::$run(isa, job)
+                crate::isa::$run(isa, job)
+            }
+            fn single(
+                query: crate::Query,
+                a: &[[Self; 3]; 3],
+                b: &[[Self; 3]; 3],
+                prm: &crate::algo::Params<Self>,
+                exact: bool,
+            ) -> crate::driver::Lane<Self> {
+                crate::driver::single::<$t>(query, a, b, prm, exact)
+            }
+            fn run_with<K: crate::isa::Token>(k: K, job: &mut crate::driver::Job<'_, Self>) {
+                k.$tokrun(job)
             }
         }
     };
 }
-impl_real!(f32, u32, 0x7f80_0000, "f32", run_f32);
-impl_real!(f64, u64, 0x7ff0_0000_0000_0000, "f64", run_f64);
+impl_real!(f32, u32, 0x7f80_0000, Precision::F32, run_f32, run_f32);
+impl_real!(f64, u64, 0x7ff0_0000_0000_0000, Precision::F64, run_f64, run_f64);
+
+#[cfg(test)]
+mod tests {
+    use super::sealed::Sealed;
+
+    #[test]
+    fn step_moves_one_ulp_in_either_direction() {
+        assert_eq!(1.0f32.step(true), 1.0 + f32::EPSILON);
+        assert_eq!(1.0f64.step(false), 1.0 - f64::EPSILON / 2.0);
+        assert_eq!((-1.0f64).step(true), -1.0 + f64::EPSILON / 2.0);
+        assert_eq!(0.0f32.step(true), f32::from_bits(1));
+        assert_eq!(0.0f64.step(false), -f64::from_bits(1));
+        assert_eq!(f64::INFINITY.step(false), f64::INFINITY);
+        assert_eq!(f32::MAX.step(true), f32::INFINITY);
+    }
+}

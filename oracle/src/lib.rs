@@ -255,23 +255,57 @@ pub fn intersect_triangle_triangle(s: &[P3; 3], t: &[P3; 3]) -> bool {
     triangle_triangle(s, t).d2 == 0
 }
 
-/// Do two triangles at exact distance 0 only *touch*: does shrinking both about their centroids
-/// by the factor `1 - 2^-8` separate them? (Shared vertices or edges, a vertex on a face, edges
-/// crossing at a boundary.) False for pairs at positive distance and for pairs that overlap with
-/// room to spare (piercing, coplanar overlap of positive area). The intersection predicate of a
-/// floating-point kernel is within rounding of the input on touching pairs, so their verdicts are
-/// counted rather than bounded (bound table).
-pub fn touching_only(s: &[P3; 3], t: &[P3; 3]) -> bool {
+/// Is the triangles' overlap removable by a relative translation of length at most `delta`
+/// (their penetration depth is at most `delta`)? True for disjoint or merely touching pairs.
+///
+/// For intersecting convex polytopes the penetration depth is the smallest overlap of their
+/// projections over the facet normals of their Minkowski difference; for two triangles those
+/// normals are among the two face normals and the nine edge-edge cross products (a flat
+/// difference, as for coplanar triangles, has an axis with zero overlap). Decided exactly:
+/// `overlap^2 <= delta^2 |a|^2` for some candidate axis `a`. The intersection verdict of a
+/// floating-point kernel on a pair within rounding of touching is judged with this (bound table).
+pub fn penetration_at_most(s: &[P3; 3], t: &[P3; 3], delta: &Rational) -> bool {
     if triangle_triangle(s, t).d2 != 0 {
-        return false;
+        return true;
     }
-    let f = Rational::from(1) - Rational::from((1, 256));
-    let shrink = |x: &[P3; 3]| -> [P3; 3] {
-        let c: P3 = [0, 1, 2].map(|k| Rational::from(&x[0][k] + &x[1][k]) + &x[2][k]).map(|v| v / 3);
-        let one = |v: &P3| lerp(&c, &sub(v, &c), &f);
-        [one(&x[0]), one(&x[1]), one(&x[2])]
-    };
-    triangle_triangle(&shrink(s), &shrink(t)).d2 != 0
+    let es: Vec<P3> = (0..3).map(|k| sub(&s[(k + 1) % 3], &s[k])).collect();
+    let et: Vec<P3> = (0..3).map(|k| sub(&t[(k + 1) % 3], &t[k])).collect();
+    let mut axes = vec![cross(&es[0], &es[1]), cross(&et[0], &et[1])];
+    for e in &es {
+        for f in &et {
+            axes.push(cross(e, f));
+        }
+    }
+    let d2 = Rational::from(delta * delta);
+    for a in &axes {
+        let aa = dot(a, a);
+        if aa == 0 {
+            continue;
+        }
+        let ps: Vec<Rational> = s.iter().map(|x| dot(a, x)).collect();
+        let pt: Vec<Rational> = t.iter().map(|x| dot(a, x)).collect();
+        let (smin, smax) = min_max(&ps);
+        let (tmin, tmax) = min_max(&pt);
+        let ov = Rational::from(&smax - &tmin).min(Rational::from(&tmax - &smin));
+        if ov <= 0 || Rational::from(&ov * &ov) <= Rational::from(&d2 * &aa) {
+            return true;
+        }
+    }
+    false
+}
+
+fn min_max(v: &[Rational]) -> (Rational, Rational) {
+    let mut lo = v[0].clone();
+    let mut hi = v[0].clone();
+    for x in &v[1..] {
+        if *x < lo {
+            lo = x.clone();
+        }
+        if *x > hi {
+            hi = x.clone();
+        }
+    }
+    (lo, hi)
 }
 
 /// Exact squared distance and closest points of two triangles: the first (in a fixed order) of

@@ -358,23 +358,27 @@ fn overflow_is_allowed_just_above_the_largest_finite_value() {
 }
 
 #[test]
-fn touching_only_separates_contact_from_overlap() {
+fn penetration_depth_is_decided_exactly() {
     let ex = |t: &T3| exact_points(t).unwrap();
     let a = ex(&A);
-    // shared vertex, shared edge, vertex on the face: touching
+    let zero = Rational::new();
+    // shared vertex, shared edge, vertex on the face, apart: nothing to remove
     for b in [
         [[1.0, 0.0, 0.0], [2.0, 1.0, 5.0], [2.0, -1.0, 3.0]],
         [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.7]],
         [[0.25, 0.25, 0.0], [0.25, 0.25, 1.0], [1.0, 1.0, 1.0]],
-    ] {
-        assert!(touching_only(&a, &ex(&b)), "{b:?}");
-    }
-    // piercing and coplanar overlap: robust; apart: not touching
-    for b in [
-        [[0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [5.0, 5.0, 0.5]],
-        [[0.1, 0.1, 0.0], [0.9, 0.0, 0.0], [0.0, 0.9, 0.0]],
         [[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]],
     ] {
-        assert!(!touching_only(&a, &ex(&b)), "{b:?}");
+        assert!(penetration_at_most(&a, &ex(&b), &zero), "{b:?}");
     }
+    // coplanar overlap: a translation along the normal by any amount separates them
+    let cop = ex(&[[0.1, 0.1, 0.0], [0.9, 0.0, 0.0], [0.0, 0.9, 0.0]]);
+    assert!(penetration_at_most(&a, &cop, &zero));
+    // a vertical fin in x = 0.3 through the triangle: moving it by 0.3 along -x removes the
+    // overlap (it then touches the edge x = 0), nothing shorter does
+    let fin = ex(&[[0.3, -1.0, -1.0], [0.3, -1.0, 1.0], [0.3, 1.0, 0.0]]);
+    let r = |x: f64| Rational::from_f64(x).unwrap();
+    assert!(penetration_at_most(&a, &fin, &r(0.3)));
+    assert!(!penetration_at_most(&a, &fin, &r(0.29)));
+    assert!(!penetration_at_most(&a, &fin, &zero));
 }

@@ -1,6 +1,7 @@
 //! Prints the worst case of one (query, family) sweep for every variant and precision:
 //! `cargo run --release -p tridist-scenes --example worst -- tri_tri random [n]`
-use tridist_scenes::eval::{sweep_family, Query};
+use tridist::Query;
+use tridist_scenes::eval::sweep_family;
 use tridist_scenes::Family;
 
 fn main() {

@@ -1,50 +1,17 @@
 //! The differential harness: run a kernel variant over cases, judge it against the oracle with
-//! the metrics of ACCURACY.md, and summarise. Shared by `cargo test`, the fuzz targets and the
-//! accuracy report.
+//! the metrics of ACCURACY.md (and its certified intervals against the exact distance), and
+//! summarise. Shared by `cargo test`, the fuzz targets and the accuracy report.
+//!
+//! Queries come from the kernels' registry ([`Query`]): the harness maps a query to its
+//! primitives by its arity (triangle pairs, segment pairs, point-triangle pairs), so a new
+//! query of an existing arity needs nothing here.
 
 use rug::Rational;
-use tridist::{Engine, Isa, Point, Prims, Real, TriangleBatch};
+use tridist::{Engine, Intersection, Interval, Isa, Outputs, PathCounts, Point, Prims, Query};
 use tridist_oracle::metrics::{self, Precision};
 
 use crate::families::{self, Case};
-
-/// A query as the harness sees it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Query {
-    /// Segment-segment squared distance + closest points.
-    SegSeg,
-    /// Point-triangle squared distance + closest point.
-    PointTri,
-    /// Triangle-triangle (PQP) squared distance + closest points.
-    TriTri,
-    /// Triangle-triangle brute force (15 features + SAT).
-    TriTriBrute,
-    /// Triangle-triangle intersection only.
-    Intersect,
-    /// Triangle-triangle by the penalty method (default options).
-    Penalty,
-}
-
-impl Query {
-    /// Every query judged against the oracle.
-    pub const ALL: [Query; 6] =
-        [Query::SegSeg, Query::PointTri, Query::TriTri, Query::TriTriBrute, Query::Intersect, Query::Penalty];
-    /// Short name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Query::SegSeg => "seg_seg",
-            Query::PointTri => "point_tri",
-            Query::TriTri => "tri_tri",
-            Query::TriTriBrute => "tri_tri_brute",
-            Query::Intersect => "intersect",
-            Query::Penalty => "penalty",
-        }
-    }
-    /// Parses [`Query::name`].
-    pub fn parse(s: &str) -> Option<Query> {
-        Query::ALL.into_iter().find(|q| q.name() == s)
-    }
-}
+use crate::float::Float;
 
 /// A kernel variant: instruction set and layout.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -104,7 +71,15 @@ impl Variant {
     pub fn available(self) -> bool {
         self.isa().is_available()
     }
-    fn engine(self) -> Result<Engine, tridist::Error> {
+    /// Does it fuse multiply-adds (different rounding from the unfused variants)?
+    pub fn fused(self) -> bool {
+        self == Variant::Avx2Fma
+    }
+    /// The engine (default tolerance).
+    ///
+    /// # Errors
+    /// When the variant is unavailable.
+    pub fn engine(self) -> Result<Engine, tridist::Error> {
         Engine::new(self.isa())
     }
 }
@@ -112,112 +87,156 @@ impl Variant {
 /// What a kernel returned for a batch.
 #[derive(Clone, Debug, Default)]
 pub struct Output<T> {
-    /// Squared distances (for `Intersect`: 0 = overlap, 1 = disjoint, NaN = invalid).
+    /// Squared distances (within-margin: `+inf` beyond the margin; intersection: 0 for
+    /// intersecting, 1 for disjoint, NaN for invalid).
     pub d: Vec<T>,
     /// First closest points.
     pub p: Vec<Point<T>>,
     /// Second closest points.
     pub q: Vec<Point<T>>,
+    /// Certified intervals.
+    pub iv: Vec<Interval<T>>,
+    /// Intersection verdicts.
+    pub verdict: Vec<Intersection>,
+    /// Which path the pairs took.
+    pub counts: PathCounts,
 }
 
-/// Runs `query` with `variant` over `cases` (closest points included where the query has them).
+/// The primitives of a case for a query, as `K`-point arrays padded to 3 (by arity: triangle
+/// pairs as they are, segment pairs from edge 0 of each triangle, point-triangle from vertex 0
+/// of `b` against `a`).
+pub fn prims<T: Float>(query: Query, c: &Case<T>) -> ([Point<T>; 3], [Point<T>; 3]) {
+    match query.arity() {
+        (2, 2) => {
+            let (a, b) = families::segments(c);
+            ([a[0], a[1], a[0]], [b[0], b[1], b[0]])
+        }
+        (1, 3) => {
+            let (p, t) = families::point_triangle(c);
+            ([p; 3], t)
+        }
+        _ => (c.a, c.b),
+    }
+}
+
+/// The within-margin margin used for a case when none is given: an eighth of its magnitude.
+pub fn default_margin<T: Float>(c: &Case<T>) -> T {
+    let s = c.a.iter().chain(c.b.iter()).flatten().fold(0.0f64, |m, x| m.max(x.to_f64().abs()));
+    T::from_f64(s / 8.0)
+}
+
+/// Runs `query` with `variant` over `cases`, asking for every output the query has.
+/// Within-margin runs each case with its own margin (`margins`, else [`default_margin`]).
 ///
 /// # Errors
 /// When the variant is unavailable.
-pub fn run<T: Real>(query: Query, variant: Variant, cases: &[Case<T>]) -> Result<Output<T>, tridist::Error> {
-    let e = variant.engine()?;
+pub fn run<T: Float>(
+    query: Query,
+    variant: Variant,
+    cases: &[Case<T>],
+    margins: Option<&[T]>,
+) -> Result<Output<T>, tridist::Error> {
+    run_with(variant.engine()?, query, variant, cases, margins)
+}
+
+/// [`run`] on a given engine (its tolerance, penalty options).
+///
+/// # Errors
+/// As the batch API.
+pub fn run_with<T: Float>(
+    e: Engine,
+    query: Query,
+    variant: Variant,
+    cases: &[Case<T>],
+    margins: Option<&[T]>,
+) -> Result<Output<T>, tridist::Error> {
     let n = cases.len();
-    let mut o = Output { d: vec![T::ZERO; n], p: vec![[T::ZERO; 3]; n], q: vec![[T::ZERO; 3]; n] };
-    let aos = variant == Variant::Scalar;
-    match query {
-        Query::TriTri | Query::TriTriBrute => {
-            let a: Vec<_> = cases.iter().map(|c| c.a).collect();
-            let b: Vec<_> = cases.iter().map(|c| c.b).collect();
-            let (ba, bb) = (TriangleBatch::from_slice(&a), TriangleBatch::from_slice(&b));
-            let (pa, pb): (Prims<T, 3>, Prims<T, 3>) =
-                if aos { ((&a).into(), (&b).into()) } else { ((&ba).into(), (&bb).into()) };
-            if query == Query::TriTri {
-                e.closest_points_triangle_triangle(pa, pb, &mut o.d, &mut o.p, &mut o.q)?;
-            } else {
-                e.closest_points_triangle_triangle_brute(pa, pb, &mut o.d, &mut o.p, &mut o.q)?;
-            }
+    let mut o = Output {
+        d: vec![T::ZERO; n],
+        p: vec![[T::ZERO; 3]; n],
+        q: vec![[T::ZERO; 3]; n],
+        iv: vec![Interval::default(); n],
+        verdict: vec![Intersection::Invalid; n],
+        counts: PathCounts::default(),
+    };
+    if query == Query::Within {
+        for (i, c) in cases.iter().enumerate() {
+            let m = margins.map_or_else(|| default_margin(c), |m| m[i]);
+            let one = run_pairs(e.margin(m.to_f64())?, query, variant, std::slice::from_ref(c))?;
+            o.d[i] = one.d[0];
+            o.p[i] = one.p[0];
+            o.q[i] = one.q[0];
+            o.iv[i] = one.iv[0];
+            o.verdict[i] = one.verdict[0];
+            o.counts.add(&one.counts);
         }
-        Query::Penalty => {
-            run_penalty(variant, cases, &tridist::PenaltyOptions::default(), &mut o)?;
+        return Ok(o);
+    }
+    run_pairs(e, query, variant, cases)
+}
+
+fn run_pairs<T: Float>(
+    e: Engine,
+    query: Query,
+    variant: Variant,
+    cases: &[Case<T>],
+) -> Result<Output<T>, tridist::Error> {
+    let n = cases.len();
+    let mut o = Output {
+        d: vec![T::ZERO; n],
+        p: vec![[T::ZERO; 3]; n],
+        q: vec![[T::ZERO; 3]; n],
+        iv: vec![Interval::default(); n],
+        verdict: vec![Intersection::Invalid; n],
+        counts: PathCounts::default(),
+    };
+    let (pa, pb): (Vec<_>, Vec<_>) = cases.iter().map(|c| prims(query, c)).unzip();
+    let out = Outputs::new()
+        .sqdist(&mut o.d)
+        .points(&mut o.p, &mut o.q)
+        .intervals(&mut o.iv)
+        .verdicts(&mut o.verdict);
+    o.counts = match query.arity() {
+        (2, 2) => {
+            let a: Vec<[Point<T>; 2]> = pa.iter().map(|t| [t[0], t[1]]).collect();
+            let b: Vec<[Point<T>; 2]> = pb.iter().map(|t| [t[0], t[1]]).collect();
+            run_layout(e, query, variant, &a, &b, out)?
         }
-        Query::Intersect => {
-            let a: Vec<_> = cases.iter().map(|c| c.a).collect();
-            let b: Vec<_> = cases.iter().map(|c| c.b).collect();
-            let (ba, bb) = (TriangleBatch::from_slice(&a), TriangleBatch::from_slice(&b));
-            let mut flags = vec![None; n];
-            if aos {
-                e.intersect_triangle_triangle(&a, &b, &mut flags)?;
-            } else {
-                e.intersect_triangle_triangle(&ba, &bb, &mut flags)?;
-            }
-            o.d = flags
-                .iter()
-                .map(|f| match f {
-                    Some(true) => T::ZERO,
-                    Some(false) => T::ONE,
-                    None => T::NAN,
-                })
-                .collect();
+        (1, 3) => {
+            let a: Vec<[Point<T>; 1]> = pa.iter().map(|t| [t[0]]).collect();
+            run_layout(e, query, variant, &a, &pb, out)?
         }
-        Query::SegSeg => {
-            let (a, b): (Vec<_>, Vec<_>) = cases.iter().map(families::segments).unzip();
-            let (ba, bb) = (tridist::SegmentBatch::from_slice(&a), tridist::SegmentBatch::from_slice(&b));
-            if aos {
-                e.closest_points_segment_segment(&a, &b, &mut o.d, &mut o.p, &mut o.q)?;
-            } else {
-                e.closest_points_segment_segment(&ba, &bb, &mut o.d, &mut o.p, &mut o.q)?;
-            }
-        }
-        Query::PointTri => {
-            let (a, b): (Vec<_>, Vec<_>) = cases
-                .iter()
-                .map(|c| {
-                    let (p, t) = families::point_triangle(c);
-                    ([p], t)
-                })
-                .unzip();
-            let (ba, bb) = (tridist::PointBatch::from_slice(&a), TriangleBatch::from_slice(&b));
-            if aos {
-                e.closest_point_point_triangle(&a, &b, &mut o.d, &mut o.q)?;
-            } else {
-                e.closest_point_point_triangle(&ba, &bb, &mut o.d, &mut o.q)?;
-            }
-            o.p = a.iter().map(|p| p[0]).collect();
-        }
+        _ => run_layout(e, query, variant, &pa, &pb, out)?,
+    };
+    if query.is_verdict() {
+        o.d = o
+            .verdict
+            .iter()
+            .map(|v| match v {
+                Intersection::Intersecting => T::ZERO,
+                Intersection::Disjoint => T::ONE,
+                Intersection::Invalid => T::NAN,
+            })
+            .collect();
     }
     Ok(o)
 }
 
-/// Runs the penalty method with `opts`; returns the iteration counts.
-///
-/// # Errors
-/// When the variant is unavailable or the options are invalid.
-pub fn run_penalty<T: Real>(
+/// The variant's layout: plain slices for the scalar AoS variant, SoA batches otherwise.
+fn run_layout<T: Float, const KA: usize, const KB: usize>(
+    e: Engine,
+    query: Query,
     variant: Variant,
-    cases: &[Case<T>],
-    opts: &tridist::PenaltyOptions<T>,
-    o: &mut Output<T>,
-) -> Result<Vec<u32>, tridist::Error> {
-    let e = variant.engine()?;
-    let n = cases.len();
-    o.d.resize(n, T::ZERO);
-    o.p.resize(n, [T::ZERO; 3]);
-    o.q.resize(n, [T::ZERO; 3]);
-    let mut it = vec![0u32; n];
-    let a: Vec<_> = cases.iter().map(|c| c.a).collect();
-    let b: Vec<_> = cases.iter().map(|c| c.b).collect();
+    a: &[[Point<T>; KA]],
+    b: &[[Point<T>; KB]],
+    out: Outputs<'_, T>,
+) -> Result<PathCounts, tridist::Error> {
     if variant == Variant::Scalar {
-        e.closest_points_triangle_triangle_penalty(&a, &b, opts, &mut o.d, &mut o.p, &mut o.q, &mut it)?;
+        e.run(query, Prims::Aos(a), Prims::Aos(b), out)
     } else {
-        let (ba, bb) = (TriangleBatch::from_slice(&a), TriangleBatch::from_slice(&b));
-        e.closest_points_triangle_triangle_penalty(&ba, &bb, opts, &mut o.d, &mut o.p, &mut o.q, &mut it)?;
+        let (ba, bb) = (tridist::Batch::from_slice(a), tridist::Batch::from_slice(b));
+        e.run(query, &ba, &bb, out)
     }
-    Ok(it)
 }
 
 /// The exact answer for one case.
@@ -229,73 +248,55 @@ pub struct Truth {
     pub s: f64,
 }
 
-fn prec<T: Real>() -> Precision {
-    if T::NAME == "f32" {
-        metrics::F32
-    } else {
-        metrics::F64
-    }
-}
-
-fn to64<const K: usize, T: Real>(p: &[Point<T>; K]) -> [[f64; 3]; K] {
-    p.map(|v| v.map(|x| x.to_f64()))
+/// The oracle's view of precision `T`.
+pub fn prec<T: Float>() -> Precision {
+    crate::float::metrics_precision(T::PRECISION)
 }
 
 /// The primitives (as exact points) of a case for a query: (first, second).
-fn exact_prims<T: Real>(query: Query, c: &Case<T>) -> (Vec<tridist_oracle::P3>, Vec<tridist_oracle::P3>) {
-    let ex = |v: &[[f64; 3]]| -> Vec<tridist_oracle::P3> {
-        v.iter().map(|p| tridist_oracle::exact_point(p).expect("families generate finite input")).collect()
+pub fn exact_prims<T: Float>(
+    query: Query,
+    c: &Case<T>,
+) -> (Vec<tridist_oracle::P3>, Vec<tridist_oracle::P3>) {
+    let (ka, kb) = query.arity();
+    let (a, b) = prims(query, c);
+    let ex = |v: &[Point<T>]| -> Vec<tridist_oracle::P3> {
+        v.iter()
+            .map(|p| {
+                tridist_oracle::exact_point(&p.map(|x| x.to_f64())).expect("families generate finite input")
+            })
+            .collect()
     };
-    match query {
-        Query::SegSeg => {
-            let (a, b) = families::segments(c);
-            (ex(&to64(&a)), ex(&to64(&b)))
+    (ex(&a[..ka]), ex(&b[..kb]))
+}
+
+/// The exact squared distance of two primitives given as exact points.
+pub fn exact_d2(a: &[tridist_oracle::P3], b: &[tridist_oracle::P3]) -> Rational {
+    match (a.len(), b.len()) {
+        (2, 2) => {
+            tridist_oracle::segment_segment(&[a[0].clone(), a[1].clone()], &[b[0].clone(), b[1].clone()]).d2
         }
-        Query::PointTri => {
-            let (p, t) = families::point_triangle(c);
-            (ex(&to64(&[p])), ex(&to64(&t)))
+        (1, 3) => tridist_oracle::point_triangle(&a[0], &[b[0].clone(), b[1].clone(), b[2].clone()]).d2,
+        _ => {
+            tridist_oracle::triangle_triangle(
+                &[a[0].clone(), a[1].clone(), a[2].clone()],
+                &[b[0].clone(), b[1].clone(), b[2].clone()],
+            )
+            .d2
         }
-        _ => (ex(&to64(&c.a)), ex(&to64(&c.b))),
     }
 }
 
 /// Computes the exact answers for `cases` under `query`.
-pub fn truth<T: Real>(query: Query, cases: &[Case<T>]) -> Vec<Truth> {
+pub fn truth<T: Float>(query: Query, cases: &[Case<T>]) -> Vec<Truth> {
     cases
         .iter()
         .map(|c| {
             let (a, b) = exact_prims(query, c);
-            let d2 = match query {
-                Query::SegSeg => {
-                    tridist_oracle::segment_segment(
-                        &[a[0].clone(), a[1].clone()],
-                        &[b[0].clone(), b[1].clone()],
-                    )
-                    .d2
-                }
-                Query::PointTri => {
-                    tridist_oracle::point_triangle(&a[0], &[b[0].clone(), b[1].clone(), b[2].clone()]).d2
-                }
-                _ => {
-                    tridist_oracle::triangle_triangle(
-                        &[a[0].clone(), a[1].clone(), a[2].clone()],
-                        &[b[0].clone(), b[1].clone(), b[2].clone()],
-                    )
-                    .d2
-                }
-            };
-            let coords = match query {
-                Query::SegSeg => {
-                    let (a, b) = families::segments(c);
-                    a.iter().chain(b.iter()).flatten().map(|x| x.to_f64()).collect::<Vec<_>>()
-                }
-                Query::PointTri => {
-                    let (p, t) = families::point_triangle(c);
-                    p.iter().chain(t.iter().flatten()).map(|x| x.to_f64()).collect()
-                }
-                _ => c.a.iter().chain(c.b.iter()).flatten().map(|x| x.to_f64()).collect(),
-            };
-            Truth { d2, s: metrics::magnitude(coords, prec::<T>()) }
+            let (ka, kb) = query.arity();
+            let (pa, pb) = prims(query, c);
+            let coords = pa[..ka].iter().chain(pb[..kb].iter()).flatten().map(|x| x.to_f64());
+            Truth { d2: exact_d2(&a, &b), s: metrics::magnitude(coords, prec::<T>()) }
         })
         .collect()
 }
@@ -321,57 +322,112 @@ pub struct Judged {
     /// Largest offset of a returned closest point from its primitive (scaled), and the error of
     /// `|p - q|` against the exact distance (scaled).
     pub point_error: f64,
+    /// The certified interval misses the exact distance.
+    pub interval_miss: bool,
+    /// Width of the certified interval, scaled by `u*S` (0 for non-finite or verdict answers).
+    pub width: f64,
+    /// Intersection verdict, or within-margin decision, wrong beyond its allowance: for a
+    /// verdict, "intersecting" said of a pair farther than `c u S`, or "disjoint" of a pair
+    /// whose penetration no translation of `c u S` removes (decided exactly); for within-margin,
+    /// the wrong side of a margin farther than `c u S` away.
+    pub misjudged: bool,
 }
 
-/// Judges one kernel output against the truth.
-pub fn judge<T: Real>(query: Query, c: &Case<T>, t: &Truth, out: &Output<T>, i: usize) -> Judged {
+/// Does the interval contain the exact distance (`lo^2 <= d2 <= hi^2`, lo, hi >= 0)?
+pub fn interval_contains(iv: &Interval<impl Float>, d2: &Rational) -> bool {
+    let (lo, hi) = (iv.lo.to_f64(), iv.hi.to_f64());
+    if !(lo >= 0.0 && hi >= lo) {
+        return false;
+    }
+    let sq = |x: f64| Rational::from_f64(x).map(|r| Rational::from(&r * &r));
+    let lo_ok = sq(lo).is_some_and(|l| l <= *d2);
+    let hi_ok = hi == f64::INFINITY || sq(hi).is_some_and(|h| *d2 <= h);
+    lo_ok && hi_ok
+}
+
+/// Judges one kernel output against the truth. `c` is the allowance (in `u S`) of verdicts
+/// and margin decisions (bound table), `margin` the within-margin margin of the case.
+pub fn judge<T: Float>(
+    query: Query,
+    c: &Case<T>,
+    t: &Truth,
+    out: &Output<T>,
+    i: usize,
+    allow: f64,
+    margin: Option<T>,
+) -> Judged {
     let pr = prec::<T>();
     let d = out.d[i].to_f64();
-    if query == Query::Intersect {
+    let us = pr.u * t.s;
+    let allow_r = Rational::from_f64(allow * us).unwrap_or_default();
+    if query.is_verdict() {
         let exact_hit = t.d2 == 0;
-        let said = if d == 0.0 {
-            Some(true)
-        } else if d == 1.0 {
-            Some(false)
+        let said = out.verdict[i].as_bool();
+        let (miss, false_hit) = (exact_hit && said == Some(false), !exact_hit && said == Some(true));
+        let misjudged = if false_hit {
+            t.d2 > Rational::from(&allow_r * &allow_r)
+        } else if miss {
+            let (a, b) = exact_prims(query, c);
+            let tri = |v: &[tridist_oracle::P3]| [v[0].clone(), v[1].clone(), v[2].clone()];
+            !tridist_oracle::penetration_at_most(&tri(&a), &tri(&b), &allow_r)
         } else {
-            None
+            false
         };
-        // A miss or a false overlap only counts beyond the contact tolerance.
-        let tol = Rational::from_f64((CONTACT_C * pr.u * t.s).powi(2)).unwrap_or_default();
+        let tol = Rational::from_f64((CONTACT_C * us).powi(2)).unwrap_or_default();
         return Judged {
-            contact_miss: exact_hit && said == Some(false),
-            false_zero: said == Some(true) && t.d2 > tol,
-            false_zero_strict: said == Some(true) && t.d2 > 0,
+            contact_miss: miss,
+            false_zero: false_hit && t.d2 > tol,
+            false_zero_strict: false_hit,
             nonfinite: said.is_none(),
+            misjudged,
             ..Judged::default()
         };
+    }
+    let mut j = Judged::default();
+    // The certified interval (every distance query, penalty included).
+    let iv = &out.iv[i];
+    j.interval_miss = !interval_contains(iv, &t.d2);
+    j.width = if iv.hi.to_f64().is_finite() { (iv.hi.to_f64() - iv.lo.to_f64()) / us } else { 0.0 };
+    if query == Query::Within {
+        let m = margin.map_or(0.0, |m| m.to_f64());
+        let m2 = Rational::from_f64(m).map(|r| Rational::from(&r * &r)).unwrap_or_default();
+        let within = t.d2 <= m2;
+        let said = d.is_finite();
+        let near =
+            |x: f64| Rational::from_f64(x.max(0.0)).map(|r| Rational::from(&r * &r)).unwrap_or_default();
+        if said != within {
+            // The wrong side is allowed within `allow u S` of the margin, and where the squares
+            // (what the caller compares) are within a few subnormal steps of each other: the
+            // documented underflow of squared distances.
+            let tiny = T::from_bits_u64(1).to_f64();
+            let squares_close =
+                Rational::from(&t.d2 - &m2).abs() <= Rational::from_f64(4.0 * tiny).unwrap_or_default();
+            j.misjudged = !squares_close && (t.d2 > near(m + allow * us) || t.d2 < near(m - allow * us));
+        }
+        if !said {
+            return j;
+        }
     }
     let overflow = pr.round(&t.d2).is_infinite();
     // +inf is documented where the squared distance, or an answer within the method's error
     // bound (the E target; 8 S for the penalty approximation, as in the bound table), overflows.
     let reach = if query == Query::Penalty { 8.0 / pr.u } else { metrics::OVERFLOW_REACH };
     let documented_overflow = d == f64::INFINITY && metrics::overflow_allowed(&t.d2, t.s, pr, reach);
-    let nonfinite = !(d.is_finite() || documented_overflow);
-    let excess = metrics::excess_within(d, &t.d2, t.s, pr, reach);
-    let mut point_error = 0.0f64;
+    j.nonfinite = !(d.is_finite() || documented_overflow);
+    j.excess = metrics::excess_within(d, &t.d2, t.s, pr, reach);
     if !overflow && d.is_finite() {
         let (a, b) = exact_prims(query, c);
         let p = out.p[i].map(|x| x.to_f64());
         let q = out.q[i].map(|x| x.to_f64());
-        point_error = point_error
-            .max(metrics::point_offset(p, &a, t.s, pr))
+        j.point_error = metrics::point_offset(p, &a, t.s, pr)
             .max(metrics::point_offset(q, &b, t.s, pr))
             .max(metrics::gap_error(p, q, &t.d2, t.s, pr));
     }
-    Judged {
-        excess,
-        ulp: metrics::ulp_error(d, &t.d2, t.s, pr),
-        contact_miss: metrics::contact_miss(d, &t.d2, t.s, pr, CONTACT_C),
-        false_zero: metrics::false_zero(d, &t.d2, t.s, pr, CONTACT_C),
-        false_zero_strict: metrics::false_zero_strict(d, &t.d2, pr),
-        nonfinite,
-        point_error,
-    }
+    j.ulp = metrics::ulp_error(d, &t.d2, t.s, pr);
+    j.contact_miss = metrics::contact_miss(d, &t.d2, t.s, pr, CONTACT_C);
+    j.false_zero = metrics::false_zero(d, &t.d2, t.s, pr, CONTACT_C);
+    j.false_zero_strict = metrics::false_zero_strict(d, &t.d2, pr);
+    j
 }
 
 /// Summary of a (query, variant, precision, family) run.
@@ -397,32 +453,54 @@ pub struct Stats {
     pub nonfinite: usize,
     /// Largest closest-point error (scaled).
     pub max_point_error: f64,
+    /// Certified intervals that miss the exact distance (must be 0).
+    pub interval_misses: usize,
+    /// Largest and median certified width (scaled).
+    pub max_width: f64,
+    /// Median certified width (scaled).
+    pub median_width: f64,
+    /// Verdicts or margin decisions wrong beyond their allowance.
+    pub misjudged: usize,
+    /// Which path the pairs took.
+    pub counts: PathCounts,
     /// Index of the case with the largest excess (or the first classification error).
     pub worst: Option<usize>,
 }
 
-/// Judges a whole batch.
-pub fn summarise<T: Real>(
+/// Judges a whole batch (`allow`: the verdict allowance in `u S`; `margins`: within-margin).
+pub fn summarise<T: Float>(
     query: Query,
     cases: &[Case<T>],
     truth: &[Truth],
     out: &Output<T>,
+    allow: f64,
+    margins: Option<&[T]>,
 ) -> (Stats, Vec<Judged>) {
-    let js: Vec<Judged> = (0..cases.len()).map(|i| judge(query, &cases[i], &truth[i], out, i)).collect();
+    let js: Vec<Judged> = (0..cases.len())
+        .map(|i| {
+            let m =
+                (query == Query::Within).then(|| margins.map_or_else(|| default_margin(&cases[i]), |m| m[i]));
+            judge(query, &cases[i], &truth[i], out, i, allow, m)
+        })
+        .collect();
+    let bad = |j: &Judged| j.misjudged || j.interval_miss || j.nonfinite;
     let mut ex: Vec<f64> =
         js.iter().map(|j| if j.excess.is_nan() { f64::INFINITY } else { j.excess }).collect();
     let worst = (0..js.len()).max_by(|&a, &b| {
-        let ka = (js[a].contact_miss || js[a].false_zero || js[a].nonfinite, ex[a].max(js[a].point_error));
-        let kb = (js[b].contact_miss || js[b].false_zero || js[b].nonfinite, ex[b].max(js[b].point_error));
+        let ka = (bad(&js[a]), ex[a].max(js[a].point_error));
+        let kb = (bad(&js[b]), ex[b].max(js[b].point_error));
         ka.partial_cmp(&kb).unwrap_or(core::cmp::Ordering::Equal)
     });
     ex.sort_by(|a, b| a.total_cmp(b));
-    let pct = |p: f64| if ex.is_empty() { 0.0 } else { ex[((ex.len() - 1) as f64 * p).round() as usize] };
+    let mut w: Vec<f64> = js.iter().map(|j| j.width).collect();
+    w.sort_by(|a, b| a.total_cmp(b));
+    let pct =
+        |v: &[f64], p: f64| if v.is_empty() { 0.0 } else { v[((v.len() - 1) as f64 * p).round() as usize] };
     let st = Stats {
         n: js.len(),
         max_excess: ex.last().copied().unwrap_or(0.0),
-        p99: pct(0.99),
-        median: pct(0.5),
+        p99: pct(&ex, 0.99),
+        median: pct(&ex, 0.5),
         max_ulp: js
             .iter()
             .filter_map(|j| j.ulp)
@@ -432,6 +510,11 @@ pub fn summarise<T: Real>(
         strict_false_zeros: js.iter().filter(|j| j.false_zero_strict).count(),
         nonfinite: js.iter().filter(|j| j.nonfinite).count(),
         max_point_error: js.iter().map(|j| j.point_error).fold(0.0, f64::max),
+        interval_misses: js.iter().filter(|j| j.interval_miss).count(),
+        max_width: w.last().copied().unwrap_or(0.0),
+        median_width: pct(&w, 0.5),
+        misjudged: js.iter().filter(|j| j.misjudged).count(),
+        counts: out.counts,
         worst,
     };
     (st, js)
@@ -439,7 +522,7 @@ pub fn summarise<T: Real>(
 
 /// A reproducible description of one case and the kernel's answer, for failure messages:
 /// inputs as decimals and bits, the exact answer (rational and rounded), the kernel's answer.
-pub fn describe<T: Real>(
+pub fn describe<T: Float>(
     query: Query,
     c: &Case<T>,
     t: &Truth,
@@ -456,7 +539,7 @@ pub fn describe<T: Real>(
     };
     let pr = prec::<T>();
     format!(
-        "case {label} ({q}, {prec})\n  a = [{a}]\n  b = [{b}]\n  text: {line}\n  exact D* = {d2} ~ {r:e} (rounded)\n  kernel D^ = {k}\n  p^ = {p:?}, q^ = {qq:?}\n  S = {s:e}, excess E = {e}, contact miss = {cm}, false zero = {fz}, non-finite = {nf}, point error = {pe}",
+        "case {label} ({q}, {prec})\n  a = [{a}]\n  b = [{b}]\n  text: {line}\n  exact D* = {d2} ~ {r:e} (rounded)\n  kernel D^ = {k}, interval [{lo:e}, {hi:e}], verdict {v:?}\n  p^ = {p:?}, q^ = {qq:?}\n  S = {s:e}, excess E = {e}, width {w:.3} uS, interval miss = {im}, contact miss = {cm}, false zero = {fz}, misjudged = {mj}, non-finite = {nf}, point error = {pe}",
         label = c.label,
         q = query.name(),
         prec = T::NAME,
@@ -466,12 +549,18 @@ pub fn describe<T: Real>(
         d2 = t.d2,
         r = pr.round(&t.d2),
         k = bits(out.d[i]),
+        lo = out.iv[i].lo,
+        hi = out.iv[i].hi,
+        v = out.verdict[i],
         p = out.p[i],
         qq = out.q[i],
         s = t.s,
         e = j.excess,
+        w = j.width,
+        im = j.interval_miss,
         cm = j.contact_miss,
         fz = j.false_zero,
+        mj = j.misjudged,
         nf = j.nonfinite,
         pe = j.point_error,
     )
@@ -479,7 +568,7 @@ pub fn describe<T: Real>(
 
 /// The case as one text line (label + 18 coordinates, shortest round-trip decimals): the
 /// format of `tridist eval` and of the regression files.
-pub fn case_line<T: Real>(c: &Case<T>) -> String {
+pub fn case_line<T: Float>(c: &Case<T>) -> String {
     let mut s = c.label.replace(char::is_whitespace, "_");
     for x in c.a.iter().chain(c.b.iter()).flatten() {
         s.push(' ');
@@ -489,7 +578,7 @@ pub fn case_line<T: Real>(c: &Case<T>) -> String {
 }
 
 /// Parses a case line (label + 18 numbers). `Err` says what is wrong.
-pub fn parse_case_line<T: Real>(line: &str) -> Result<Case<T>, String> {
+pub fn parse_case_line<T: Float>(line: &str) -> Result<Case<T>, String> {
     let mut it = line.split_whitespace();
     let label = it.next().ok_or("empty line")?.to_string();
     let nums: Vec<&str> = it.collect();
@@ -519,9 +608,34 @@ pub struct Row {
     pub stats: Stats,
 }
 
+/// Margins for within-margin cases that straddle the exact distance: every other case gets a
+/// margin within a few ulps of its exact distance (the hard decisions), the others
+/// [`default_margin`].
+pub fn margins<T: Float>(cases: &[Case<T>], truth: &[Truth]) -> Vec<T> {
+    cases
+        .iter()
+        .zip(truth)
+        .enumerate()
+        .map(|(i, (c, t))| {
+            if i % 2 == 0 {
+                default_margin(c)
+            } else {
+                let d = T::from_f64(t.d2.to_f64().sqrt());
+                let k = (i / 2 % 5) as i32 - 2;
+                let m = families::ulp_step(d, k);
+                if m < T::ZERO {
+                    T::ZERO
+                } else {
+                    m
+                }
+            }
+        })
+        .collect()
+}
+
 /// Judges every available variant of `query` on `n` cases of `family` (seeded), calling
 /// `on_worst` with a reproducible description of each row's worst case.
-pub fn sweep_family<T: Real>(
+pub fn sweep_family<T: Float>(
     query: Query,
     family: crate::Family,
     seed: u64,
@@ -530,10 +644,12 @@ pub fn sweep_family<T: Real>(
 ) -> Vec<Row> {
     let cases = families::generate::<T>(family, seed, n);
     let tr = truth(query, &cases);
+    let ms = margins(&cases, &tr);
     let mut rows = Vec::new();
     for v in Variant::ALL {
-        let Ok(out) = run(query, v, &cases) else { continue };
-        let (stats, js) = summarise(query, &cases, &tr, &out);
+        let Ok(out) = run(query, v, &cases, Some(&ms)) else { continue };
+        let allow = crate::bounds::bound(query, v, T::NAME, family).allow;
+        let (stats, js) = summarise(query, &cases, &tr, &out, allow, Some(&ms));
         let row = Row { query, variant: v, precision: T::NAME, family, stats };
         if let Some(w) = row.stats.worst {
             on_worst(&row, describe(query, &cases[w], &tr[w], &out, w, &js[w]));

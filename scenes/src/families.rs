@@ -8,7 +8,9 @@
 
 use std::sync::OnceLock;
 
-use tridist::{Real, Triangle};
+use tridist::Triangle;
+
+use crate::float::Float;
 
 use crate::mesh::Mesh;
 use crate::rng::Rng;
@@ -93,12 +95,12 @@ pub struct Case<T> {
 type P = [f64; 3];
 type Tri = [P; 3];
 
-fn conv<T: Real>(t: &Tri) -> Triangle<T> {
+fn conv<T: Float>(t: &Tri) -> Triangle<T> {
     t.map(|p| p.map(T::from_f64))
 }
 
 /// Steps `x` by `k` ulps (toward +inf for k > 0) in precision T.
-pub fn ulp_step<T: Real>(x: T, k: i32) -> T {
+pub fn ulp_step<T: Float>(x: T, k: i32) -> T {
     let mut v = x;
     for _ in 0..k.unsigned_abs() {
         let up = k > 0;
@@ -209,7 +211,7 @@ fn armadillo_pairs() -> &'static Vec<(usize, usize)> {
 }
 
 /// Generates `n` cases of `family` in precision `T` from `seed`.
-pub fn generate<T: Real>(family: Family, seed: u64, n: usize) -> Vec<Case<T>> {
+pub fn generate<T: Float>(family: Family, seed: u64, n: usize) -> Vec<Case<T>> {
     let mut r = Rng::new(seed ^ (family as u64).wrapping_mul(0x100_0000_01B3));
     (0..n)
         .map(|i| {
@@ -219,7 +221,7 @@ pub fn generate<T: Real>(family: Family, seed: u64, n: usize) -> Vec<Case<T>> {
         .collect()
 }
 
-fn gen_one<T: Real>(family: Family, r: &mut Rng) -> (Triangle<T>, Triangle<T>, &'static str) {
+fn gen_one<T: Float>(family: Family, r: &mut Rng) -> (Triangle<T>, Triangle<T>, &'static str) {
     let f32_prec = T::NAME == "f32";
     let (a, b, how): (Tri, Tri, &str) = match family {
         Family::Random => (rand_tri(r, 0.0, 1.0), rand_tri(r, 0.0, 1.0), "unit_cube"),
@@ -369,11 +371,11 @@ fn gen_one<T: Real>(family: Family, r: &mut Rng) -> (Triangle<T>, Triangle<T>, &
 
 /// The segment pair derived from a triangle case: edge 0 of each triangle (the constructions
 /// put their interesting feature there).
-pub fn segments<T: Real>(c: &Case<T>) -> ([[T; 3]; 2], [[T; 3]; 2]) {
+pub fn segments<T: Float>(c: &Case<T>) -> ([[T; 3]; 2], [[T; 3]; 2]) {
     ([c.a[0], c.a[1]], [c.b[0], c.b[1]])
 }
 
 /// The point-triangle pair derived from a triangle case: vertex 0 of `b` against `a`.
-pub fn point_triangle<T: Real>(c: &Case<T>) -> ([T; 3], Triangle<T>) {
+pub fn point_triangle<T: Float>(c: &Case<T>) -> ([T; 3], Triangle<T>) {
     (c.b[0], c.a)
 }

@@ -7,21 +7,25 @@
 //! * [`eval`]: run a kernel variant, judge it against the exact oracle, summarise;
 //! * [`bounds`]: the declared bound table, one row per (query, variant, precision, family group),
 //!   each with its reason;
-//! * [`peer`]: parry3d / parry3d-f64, the peer measured and judged on the same inputs;
+//! * `peer` (feature `peers`): parry3d / parry3d-f64 (and FCL when its headers are installed),
+//!   the peers measured and judged on the same inputs;
 //! * [`fuzzing`]: the fuzz targets' bodies, run by libFuzzer (`fuzz/`) and replayed on stable
 //!   by `cargo test` (committed findings in `fuzz/regressions/`).
 
 pub mod bounds;
 pub mod eval;
 pub mod families;
+pub mod float;
 pub mod fuzzing;
 pub mod mesh;
+#[cfg(feature = "peers")]
 pub mod peer;
 pub mod protocol;
 pub mod rng;
 pub mod workload;
 
 pub use families::{Case, Family};
+pub use float::Float;
 
 /// The environment variable that sets the base seed of every generated family.
 pub const SEED_ENV: &str = "TRIDIST_SEED";

@@ -1,24 +1,32 @@
-//! The peer a Rust user would pick today: parry3d (f32) and parry3d-f64,
-//! `query::distance` on two `Triangle` shapes at identity poses (GJK on support maps). Measured
-//! by the benches and the report on the same inputs as tridist, and judged against the same
-//! oracle (distance only: `query::distance` returns no points).
+//! The peers, measured by the benches and the report on the same inputs as tridist and judged
+//! against the same oracle:
+//!
+//! * parry3d (f32) and parry3d-f64 `query::distance` on two `Triangle` shapes at identity poses
+//!   (GJK on support maps): what a Rust user would pick;
+//! * FCL's `TriangleDistance` (PQP's TriDist as FCL 0.7 ships it, header-only, compiled with
+//!   `-O3 -march=native` by `build.rs`), float and double: the fastest peer a C++ user would
+//!   pick. Present when its headers were found at build time (`cfg(tridist_fcl)`; Debian:
+//!   `apt-get install libfcl-dev libeigen3-dev`); [`Lib::available`] says.
 
 use std::time::Duration;
 
-use tridist::{Engine, Isa, Real, Triangle};
+use tridist::{Engine, Intersection, Interval, Isa, PathCounts, Query, Triangle};
 
-use crate::eval::{summarise, truth, Output, Query, Stats};
+use crate::eval::{summarise, truth, Output, Stats};
 use crate::families::{generate, Case};
+use crate::float::Float;
 use crate::Family;
 
 /// A precision parry has a crate for.
-pub trait Peer: Real {
+pub trait Peer: Float {
     /// parry's triangle shape in this precision.
     type Shape;
     /// The triangle as a parry shape.
     fn shape(t: &Triangle<Self>) -> Self::Shape;
     /// parry's distance (not squared) between two triangles.
     fn distance(a: &Self::Shape, b: &Self::Shape) -> Self;
+    /// FCL's distances of flat pairs (NaN when FCL was not built).
+    fn fcl(a: &[Self], b: &[Self], out: &mut [Self]);
 }
 
 /// Implements [`Peer`] for one parry crate (the two differ only in their scalar type).
@@ -35,27 +43,92 @@ macro_rules! peer {
                 // Triangle-triangle is always supported; NaN marks the impossible error.
                 $parry::query::distance(&id, a, &id, b).map_or(<$t>::NAN, |d| d.distance)
             }
+            fn fcl(a: &[$t], b: &[$t], out: &mut [$t]) {
+                <$t as FclCall>::fcl_call(a, b, out)
+            }
         }
     };
 }
 peer!(f32, parry3d);
 peer!(f64, parry3d_f64);
 
-/// Triangle pairs converted once to parry shapes.
+/// A peer library.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lib {
+    /// parry3d / parry3d-f64.
+    Parry,
+    /// FCL (C++), when built.
+    Fcl,
+}
+
+impl Lib {
+    /// Every peer, available or not.
+    pub const ALL: [Lib; 2] = [Lib::Parry, Lib::Fcl];
+    /// Name in tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Lib::Parry => "parry3d",
+            Lib::Fcl => "fcl",
+        }
+    }
+    /// Was it built into this binary?
+    pub fn available(self) -> bool {
+        match self {
+            Lib::Parry => true,
+            Lib::Fcl => cfg!(tridist_fcl),
+        }
+    }
+    /// Why it is missing, for reports.
+    pub fn missing_reason(self) -> &'static str {
+        match self {
+            Lib::Parry => "",
+            Lib::Fcl => "FCL headers were not found at build time (apt-get install libfcl-dev libeigen3-dev, then rebuild)",
+        }
+    }
+}
+
+/// Triangle pairs prepared once for a peer (parry shapes, or FCL's flat arrays).
 pub struct Shapes<T: Peer> {
+    lib: Lib,
     a: Vec<T::Shape>,
     b: Vec<T::Shape>,
+    fa: Vec<T>,
+    fb: Vec<T>,
 }
 
 impl<T: Peer> Shapes<T> {
-    /// Converts the pairs.
+    /// Converts the pairs for parry.
     pub fn new(a: &[Triangle<T>], b: &[Triangle<T>]) -> Self {
-        Shapes { a: a.iter().map(T::shape).collect(), b: b.iter().map(T::shape).collect() }
+        Shapes::for_lib(Lib::Parry, a, b)
+    }
+
+    /// Converts the pairs for `lib`.
+    pub fn for_lib(lib: Lib, a: &[Triangle<T>], b: &[Triangle<T>]) -> Self {
+        let n = a.len().min(b.len());
+        match lib {
+            Lib::Parry => Shapes {
+                lib,
+                a: a[..n].iter().map(T::shape).collect(),
+                b: b[..n].iter().map(T::shape).collect(),
+                fa: vec![],
+                fb: vec![],
+            },
+            Lib::Fcl => Shapes {
+                lib,
+                a: vec![],
+                b: vec![],
+                fa: a[..n].as_flattened().as_flattened().to_vec(),
+                fb: b[..n].as_flattened().as_flattened().to_vec(),
+            },
+        }
     }
 
     /// Number of pairs.
     pub fn len(&self) -> usize {
-        self.a.len().min(self.b.len())
+        match self.lib {
+            Lib::Parry => self.a.len(),
+            Lib::Fcl => self.fa.len() / 9,
+        }
     }
 
     /// True when there are no pairs.
@@ -63,13 +136,77 @@ impl<T: Peer> Shapes<T> {
         self.len() == 0
     }
 
-    /// parry's distances into `out` (one per pair).
+    /// The peer's distances (not squared) into `out` (one per pair); NaN everywhere for a peer
+    /// that was not built.
     pub fn distances(&self, out: &mut [T]) {
-        for ((o, a), b) in out.iter_mut().zip(&self.a).zip(&self.b) {
-            *o = T::distance(a, b);
+        match self.lib {
+            Lib::Parry => {
+                for ((o, a), b) in out.iter_mut().zip(&self.a).zip(&self.b) {
+                    *o = T::distance(a, b);
+                }
+            }
+            Lib::Fcl => T::fcl(&self.fa, &self.fb, out),
         }
     }
 }
+
+#[cfg(tridist_fcl)]
+mod fcl_ffi {
+    extern "C" {
+        pub fn tridist_fcl_tri_dist_f64(
+            n: usize,
+            a: *const f64,
+            b: *const f64,
+            d: *mut f64,
+            p: *mut f64,
+            q: *mut f64,
+        );
+        pub fn tridist_fcl_tri_dist_f32(
+            n: usize,
+            a: *const f32,
+            b: *const f32,
+            d: *mut f32,
+            p: *mut f32,
+            q: *mut f32,
+        );
+    }
+}
+
+/// FCL's distances of flat pairs (9 coordinates per triangle) in one precision.
+trait FclCall: Sized {
+    fn fcl_call(a: &[Self], b: &[Self], out: &mut [Self]);
+}
+
+macro_rules! fcl_call {
+    ($t:ty, $f:ident) => {
+        impl FclCall for $t {
+            #[cfg(tridist_fcl)]
+            fn fcl_call(a: &[$t], b: &[$t], out: &mut [$t]) {
+                let n = (a.len() / 9).min(b.len() / 9).min(out.len());
+                // SAFETY: the shim reads 9 values per pair from `a` and `b` and writes one to
+                // `out` for n pairs, all within the slices (n is bounded by each length); the
+                // point outputs are null, which the shim checks. (FFI to the measured C++ peer:
+                // the only `unsafe` outside the SIMD layer.)
+                unsafe {
+                    fcl_ffi::$f(
+                        n,
+                        a.as_ptr(),
+                        b.as_ptr(),
+                        out.as_mut_ptr(),
+                        core::ptr::null_mut(),
+                        core::ptr::null_mut(),
+                    )
+                }
+            }
+            #[cfg(not(tridist_fcl))]
+            fn fcl_call(_: &[$t], _: &[$t], out: &mut [$t]) {
+                out.fill(<$t>::NAN);
+            }
+        }
+    };
+}
+fcl_call!(f32, tridist_fcl_tri_dist_f32);
+fcl_call!(f64, tridist_fcl_tri_dist_f64);
 
 /// Checks that parry answers the same question as tridist on these pairs (a harness error, a
 /// wrong pose or an unsquared distance would disagree on most pairs): parry's distance against
@@ -78,18 +215,18 @@ impl<T: Peer> Shapes<T> {
 ///
 /// # Errors
 /// A message when the check fails.
-pub fn agreement<T: Peer>(a: &[Triangle<T>], b: &[Triangle<T>]) -> Result<(f64, usize), String> {
+pub fn agreement<T: Peer>(lib: Lib, a: &[Triangle<T>], b: &[Triangle<T>]) -> Result<(f64, usize), String> {
     let n = a.len().min(b.len());
     let (a, b) = (&a[..n], &b[..n]);
     let (mut ours, mut theirs) = (vec![T::ZERO; n], vec![T::ZERO; n]);
     let e = Engine::new(Isa::Scalar).map_err(|e| e.to_string())?;
     e.sqdist_triangle_triangle(a, b, &mut ours).map_err(|e| e.to_string())?;
-    Shapes::new(a, b).distances(&mut theirs);
+    Shapes::for_lib(lib, a, b).distances(&mut theirs);
     compare(a, b, &ours, &theirs)
 }
 
 /// [`agreement`]'s test on given answers: `ours` squared, `theirs` not.
-fn compare<T: Real>(
+fn compare<T: Float>(
     a: &[Triangle<T>],
     b: &[Triangle<T>],
     ours: &[T],
@@ -117,23 +254,29 @@ pub fn time_pass<T: Peer>(shapes: &Shapes<T>, budget: Duration) -> f64 {
     crate::workload::median_time(|| shapes.distances(&mut out), budget)
 }
 
-/// parry's triangle distance judged against the oracle on `n` cases of `family`, with the
+/// A peer's triangle distance judged against the oracle on `n` cases of `family`, with the
 /// metrics of ACCURACY.md. Distance only: the closest-point error of the result is meaningless
 /// (no points are returned) and left at 0.
-pub fn judge<T: Peer>(family: Family, seed: u64, n: usize) -> Stats {
+pub fn judge<T: Peer>(lib: Lib, family: Family, seed: u64, n: usize) -> Stats {
     let cases: Vec<Case<T>> = generate::<T>(family, seed, n);
     let a: Vec<_> = cases.iter().map(|c| c.a).collect();
     let b: Vec<_> = cases.iter().map(|c| c.b).collect();
     let mut d = vec![T::ZERO; cases.len()];
-    Shapes::new(&a, &b).distances(&mut d);
+    Shapes::for_lib(lib, &a, &b).distances(&mut d);
     // The metrics take a squared distance; squaring in T adds at most half an ulp of D, far below
     // the errors measured.
+    let n = cases.len();
     let out = Output {
         d: d.iter().map(|&x| x * x).collect(),
-        p: vec![[T::ZERO; 3]; cases.len()],
-        q: vec![[T::ZERO; 3]; cases.len()],
+        p: vec![[T::ZERO; 3]; n],
+        q: vec![[T::ZERO; 3]; n],
+        // no certificate: the interval that contains everything
+        iv: vec![Interval { lo: T::ZERO, hi: T::INFINITY }; n],
+        verdict: vec![Intersection::Invalid; n],
+        counts: PathCounts::default(),
     };
-    let mut st = summarise(Query::TriTri, &cases, &truth(Query::TriTri, &cases), &out).0;
+    let allow = crate::bounds::VERDICT_ALLOW;
+    let mut st = summarise(Query::TriTri, &cases, &truth(Query::TriTri, &cases), &out, allow, None).0;
     st.max_point_error = 0.0;
     st
 }
@@ -152,7 +295,7 @@ mod tests {
         let cases: Vec<Case<f64>> = generate(Family::Random, 1, 50);
         let ca: Vec<_> = cases.iter().map(|c| c.a).collect();
         let cb: Vec<_> = cases.iter().map(|c| c.b).collect();
-        let (worst, beyond) = agreement(&ca, &cb).unwrap();
+        let (worst, beyond) = agreement(Lib::Parry, &ca, &cb).unwrap();
         assert!(worst < 1e-9 && beyond == 0, "{worst} {beyond}");
         // a harness that compared squared with unsquared distances would be caught
         let mut ours = vec![0.0; 50];
@@ -164,8 +307,26 @@ mod tests {
 
     #[test]
     fn judged_against_the_oracle() {
-        let st = judge::<f64>(Family::Random, 7, 40);
+        let st = judge::<f64>(Lib::Parry, Family::Random, 7, 40);
         assert_eq!(st.n, 40);
         assert!(st.max_excess.is_finite() && st.nonfinite == 0);
+    }
+
+    #[test]
+    fn fcl_answers_the_same_question_when_built() {
+        if !Lib::Fcl.available() {
+            eprintln!("{}", Lib::Fcl.missing_reason());
+            return;
+        }
+        let cases: Vec<Case<f64>> = generate(Family::Random, 3, 200);
+        let ca: Vec<_> = cases.iter().map(|c| c.a).collect();
+        let cb: Vec<_> = cases.iter().map(|c| c.b).collect();
+        let (worst, beyond) = agreement(Lib::Fcl, &ca, &cb).unwrap();
+        assert!(beyond == 0 && worst < 1e-9, "{worst} {beyond}");
+        let a = [[[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]];
+        let b = [[[0.0f32, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]]];
+        let mut d = [0.0f32];
+        Shapes::for_lib(Lib::Fcl, &a, &b).distances(&mut d);
+        assert_eq!(d[0], 2.0);
     }
 }

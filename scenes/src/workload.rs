@@ -1,155 +1,93 @@
-//! Throughput workloads shared by the report and the criterion benches: every query x variant x
-//! precision on prepared pairs in both layouts. Timing: one warm-up pass, then the median of
+//! Throughput workloads shared by the report and the criterion benches: every query of the
+//! registry x variant x precision on prepared pairs in both layouts. Timing: one warm-up pass, then the median of
 //! repeated passes; each measurement first checks its results against the scalar AoS variant (a
 //! fast wrong kernel cannot win).
 
 use std::time::{Duration, Instant};
 
 use crate::eval::Variant;
-use tridist::{Engine, PointBatch, Real, SegmentBatch, Triangle, TriangleBatch};
+use crate::float::Float;
+use tridist::{Batch, Engine, Intersection, Outputs, PathCounts, Point, Prims, Query, Triangle};
 
-/// Queries whose throughput is measured.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TQuery {
-    /// Point-triangle (6 per triangle pair).
-    TriPoint,
-    /// Segment-segment (9 per triangle pair).
-    SegSeg,
-    /// Triangle-triangle, PQP.
-    TriTri,
-    /// Triangle-triangle, brute force.
-    Brute,
-    /// Intersection only.
-    Intersect,
-    /// Within-margin.
-    Within,
-    /// Penalty method (default options).
-    Penalty,
+/// Prepared primitives of one arity in both layouts.
+struct Side<T: Float, const KA: usize, const KB: usize> {
+    a: Vec<[Point<T>; KA]>,
+    b: Vec<[Point<T>; KB]>,
+    ba: Batch<T, KA>,
+    bb: Batch<T, KB>,
 }
 
-impl TQuery {
-    /// Every measured query.
-    pub const ALL: [TQuery; 7] = [
-        TQuery::TriPoint,
-        TQuery::SegSeg,
-        TQuery::TriTri,
-        TQuery::Brute,
-        TQuery::Intersect,
-        TQuery::Within,
-        TQuery::Penalty,
-    ];
-    /// Name for tables.
-    pub fn name(self) -> &'static str {
-        match self {
-            TQuery::TriPoint => "tri_point",
-            TQuery::SegSeg => "seg_seg",
-            TQuery::TriTri => "tri_tri",
-            TQuery::Brute => "tri_tri_brute",
-            TQuery::Intersect => "intersect",
-            TQuery::Within => "within",
-            TQuery::Penalty => "penalty",
+impl<T: Float, const KA: usize, const KB: usize> Side<T, KA, KB> {
+    fn new(a: Vec<[Point<T>; KA]>, b: Vec<[Point<T>; KB]>) -> Self {
+        Side { ba: Batch::from_slice(&a), bb: Batch::from_slice(&b), a, b }
+    }
+    fn run(&self, e: Engine, q: Query, aos: bool, out: Outputs<'_, T>) -> Result<PathCounts, tridist::Error> {
+        if aos {
+            e.run(q, Prims::Aos(&self.a), Prims::Aos(&self.b), out)
+        } else {
+            e.run(q, &self.ba, &self.bb, out)
         }
     }
 }
 
-/// Prepared inputs in both layouts.
-pub struct Workload<T: Real> {
-    ta: Vec<Triangle<T>>,
-    tb: Vec<Triangle<T>>,
-    bta: TriangleBatch<T>,
-    btb: TriangleBatch<T>,
-    sa: Vec<[[T; 3]; 2]>,
-    sb: Vec<[[T; 3]; 2]>,
-    bsa: SegmentBatch<T>,
-    bsb: SegmentBatch<T>,
-    pa: Vec<[[T; 3]; 1]>,
-    pb: Vec<Triangle<T>>,
-    bpa: PointBatch<T>,
-    bpb: TriangleBatch<T>,
+/// Prepared inputs in both layouts: triangle pairs, and from them (the paper's protocol) every
+/// edge pair (segment-segment) and every vertex-triangle pair (point-triangle).
+pub struct Workload<T: Float> {
+    tri: Side<T, 3, 3>,
+    seg: Side<T, 2, 2>,
+    pt: Side<T, 1, 3>,
     /// Margin of the within-margin query.
-    pub margin: T,
+    pub margin: f64,
 }
 
-impl<T: Real> Workload<T> {
+impl<T: Float> Workload<T> {
     /// From triangle pairs given in f64 (rounded to T).
     pub fn new(pairs: &[(Triangle<f64>, Triangle<f64>)], margin: f64) -> Self {
         let c = |t: &Triangle<f64>| t.map(|p| p.map(T::from_f64));
         let p: Vec<(Triangle<T>, Triangle<T>)> = pairs.iter().map(|(a, b)| (c(a), c(b))).collect();
-        let ta: Vec<_> = p.iter().map(|x| x.0).collect();
-        let tb: Vec<_> = p.iter().map(|x| x.1).collect();
         let (sa, sb) = crate::protocol::edge_pairs(&p);
         let (pa, pb) = crate::protocol::vertex_pairs(&p);
         Workload {
-            bta: TriangleBatch::from_slice(&ta),
-            btb: TriangleBatch::from_slice(&tb),
-            bsa: SegmentBatch::from_slice(&sa),
-            bsb: SegmentBatch::from_slice(&sb),
-            bpa: PointBatch::from_slice(&pa),
-            bpb: TriangleBatch::from_slice(&pb),
-            ta,
-            tb,
-            sa,
-            sb,
-            pa,
-            pb,
-            margin: T::from_f64(margin),
+            tri: Side::new(p.iter().map(|x| x.0).collect(), p.iter().map(|x| x.1).collect()),
+            seg: Side::new(sa, sb),
+            pt: Side::new(pa, pb),
+            margin,
         }
     }
 
     /// The triangle pairs (AoS), for peers measured on the same inputs.
     pub fn triangles(&self) -> (&[Triangle<T>], &[Triangle<T>]) {
-        (&self.ta, &self.tb)
+        (&self.tri.a, &self.tri.b)
     }
 
     /// Number of queries of one pass.
-    pub fn len(&self, q: TQuery) -> usize {
-        match q {
-            TQuery::TriPoint => self.pa.len(),
-            TQuery::SegSeg => self.sa.len(),
-            _ => self.ta.len(),
+    pub fn len(&self, q: Query) -> usize {
+        match q.arity() {
+            (2, 2) => self.seg.a.len(),
+            (1, 3) => self.pt.a.len(),
+            _ => self.tri.a.len(),
         }
     }
 
-    /// Runs one pass of `q` on `e` (AoS inputs when `aos`), writing into `out`.
+    /// Runs one pass of `q` on `e` (AoS inputs when `aos`): squared distances into `out`
+    /// (verdicts into `verdicts` for intersection), the default penalty options.
+    ///
+    /// # Errors
+    /// As the batch API.
     pub fn run(
         &self,
-        q: TQuery,
+        q: Query,
         e: Engine,
         aos: bool,
         out: &mut [T],
-        flags: &mut [Option<bool>],
-    ) -> Result<(), tridist::Error> {
-        match (q, aos) {
-            (TQuery::TriPoint, true) => e.sqdist_point_triangle(&self.pa, &self.pb, out),
-            (TQuery::TriPoint, false) => e.sqdist_point_triangle(&self.bpa, &self.bpb, out),
-            (TQuery::SegSeg, true) => e.sqdist_segment_segment(&self.sa, &self.sb, out),
-            (TQuery::SegSeg, false) => e.sqdist_segment_segment(&self.bsa, &self.bsb, out),
-            (TQuery::TriTri, true) => e.sqdist_triangle_triangle(&self.ta, &self.tb, out),
-            (TQuery::TriTri, false) => e.sqdist_triangle_triangle(&self.bta, &self.btb, out),
-            (TQuery::Brute, true) => e.sqdist_triangle_triangle_brute(&self.ta, &self.tb, out),
-            (TQuery::Brute, false) => e.sqdist_triangle_triangle_brute(&self.bta, &self.btb, out),
-            (TQuery::Intersect, true) => e.intersect_triangle_triangle(&self.ta, &self.tb, flags),
-            (TQuery::Intersect, false) => e.intersect_triangle_triangle(&self.bta, &self.btb, flags),
-            (TQuery::Within, true) => e.within_margin_triangle_triangle(&self.ta, &self.tb, self.margin, out),
-            (TQuery::Within, false) => {
-                e.within_margin_triangle_triangle(&self.bta, &self.btb, self.margin, out)
-            }
-            (TQuery::Penalty, aos) => {
-                // Outputs the caller does not read still have to exist: allocated per pass,
-                // a small part of the iteration's cost.
-                let n = self.ta.len();
-                let (mut p, mut q, mut it) = (vec![[T::ZERO; 3]; n], vec![[T::ZERO; 3]; n], vec![0u32; n]);
-                let o = tridist::PenaltyOptions::default();
-                if aos {
-                    e.closest_points_triangle_triangle_penalty(
-                        &self.ta, &self.tb, &o, out, &mut p, &mut q, &mut it,
-                    )
-                } else {
-                    e.closest_points_triangle_triangle_penalty(
-                        &self.bta, &self.btb, &o, out, &mut p, &mut q, &mut it,
-                    )
-                }
-            }
+        verdicts: &mut [Intersection],
+    ) -> Result<PathCounts, tridist::Error> {
+        let e = if q == Query::Within { e.margin(self.margin)? } else { e };
+        let o = if q.is_verdict() { Outputs::new().verdicts(verdicts) } else { Outputs::new().sqdist(out) };
+        match q.arity() {
+            (2, 2) => self.seg.run(e, q, aos, o),
+            (1, 3) => self.pt.run(e, q, aos, o),
+            _ => self.tri.run(e, q, aos, o),
         }
     }
 }
@@ -170,9 +108,9 @@ pub fn median_time(mut f: impl FnMut(), budget: Duration) -> f64 {
 }
 
 /// A result fingerprint: (pairs reported at distance 0 or overlapping, sum of distances).
-pub fn fingerprint<T: Real>(q: TQuery, out: &[T], flags: &[Option<bool>]) -> (usize, f64) {
-    if q == TQuery::Intersect {
-        (flags.iter().filter(|f| **f == Some(true)).count(), 0.0)
+pub fn fingerprint<T: Float>(q: Query, out: &[T], flags: &[Intersection]) -> (usize, f64) {
+    if q.is_verdict() {
+        (flags.iter().filter(|f| **f == Intersection::Intersecting).count(), 0.0)
     } else {
         let zeros = out.iter().filter(|d| **d == T::ZERO).count();
         let sum = out.iter().map(|d| d.to_f64()).filter(|d| d.is_finite()).map(f64::sqrt).sum();
@@ -182,11 +120,11 @@ pub fn fingerprint<T: Real>(q: TQuery, out: &[T], flags: &[Option<bool>]) -> (us
 
 /// Runs `q` on `variant` once and compares its results with the scalar AoS variant: `None` when
 /// the variant is unavailable, `Err` when they disagree beyond rounding.
-pub fn check<T: Real>(w: &Workload<T>, q: TQuery, variant: Variant) -> Option<Result<(), String>> {
+pub fn check<T: Float>(w: &Workload<T>, q: Query, variant: Variant) -> Option<Result<(), String>> {
     let e = Engine::new(variant.isa()).ok()?;
     let n = w.len(q);
-    let (mut out, mut flags) = (vec![T::ZERO; n], vec![None; n]);
-    let (mut ref_out, mut ref_flags) = (vec![T::ZERO; n], vec![None; n]);
+    let (mut out, mut flags) = (vec![T::ZERO; n], vec![Intersection::Invalid; n]);
+    let (mut ref_out, mut ref_flags) = (vec![T::ZERO; n], vec![Intersection::Invalid; n]);
     if let Err(err) = w.run(q, e, variant == Variant::Scalar, &mut out, &mut flags) {
         return Some(Err(err.to_string()));
     }
@@ -197,7 +135,7 @@ pub fn check<T: Real>(w: &Workload<T>, q: TQuery, variant: Variant) -> Option<Re
     let (rz, rs) = fingerprint(q, &ref_out, &ref_flags);
     // Touching decisions may flip within rounding. The penalty method is an iteration whose
     // result depends on rounding (FMA, lane grouping): it gets looser tolerances.
-    let (tol_zero, tol_sum) = if q == TQuery::Penalty { (n / 10 + 2, 2e-2) } else { (n / 100 + 2, 1e-3) };
+    let (tol_zero, tol_sum) = if q == Query::Penalty { (n / 10 + 2, 2e-2) } else { (n / 100 + 2, 1e-3) };
     if z.abs_diff(rz) > tol_zero || (s - rs).abs() > tol_sum * rs.abs().max(1e-300) {
         return Some(Err(format!("result check failed: zeros {z} vs {rz}, sum {s} vs {rs}")));
     }
@@ -206,9 +144,9 @@ pub fn check<T: Real>(w: &Workload<T>, q: TQuery, variant: Variant) -> Option<Re
 
 /// Measures queries/s of `q` on `variant` after [`check`]: `None` when the variant is
 /// unavailable, `Err` when the check fails.
-pub fn measure<T: Real>(
+pub fn measure<T: Float>(
     w: &Workload<T>,
-    q: TQuery,
+    q: Query,
     variant: Variant,
     budget: Duration,
 ) -> Option<Result<f64, String>> {
@@ -217,7 +155,7 @@ pub fn measure<T: Real>(
     }
     let e = Engine::new(variant.isa()).ok()?;
     let n = w.len(q);
-    let (mut out, mut flags) = (vec![T::ZERO; n], vec![None; n]);
+    let (mut out, mut flags) = (vec![T::ZERO; n], vec![Intersection::Invalid; n]);
     let aos = variant == Variant::Scalar;
     let t = median_time(
         || {

@@ -2,21 +2,21 @@
 //! triangle's vertices (all 36 combinations) must stay within the bound table; power-of-two
 //! scaling must scale every variant's answer exactly (barring overflow and underflow).
 
-use tridist::Real;
+use tridist::Query;
 use tridist_scenes::bounds::violations;
-use tridist_scenes::eval::{run, truth, Query, Variant};
-use tridist_scenes::{families, Case, Family};
+use tridist_scenes::eval::{run, truth, Variant};
+use tridist_scenes::{families, Case, Family, Float};
 
 const PERMS: [[usize; 3]; 6] = [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]];
 
-fn permuted<T: Real>(c: &Case<T>, pa: [usize; 3], pb: [usize; 3], swap: bool) -> Case<T> {
+fn permuted<T: Float>(c: &Case<T>, pa: [usize; 3], pb: [usize; 3], swap: bool) -> Case<T> {
     let a = pa.map(|k| c.a[k]);
     let b = pb.map(|k| c.b[k]);
     let (a, b) = if swap { (b, a) } else { (a, b) };
     Case { label: format!("{}/perm{pa:?}{pb:?}/swap{swap}", c.label), a, b }
 }
 
-fn permutations_within_bounds<T: Real>() {
+fn permutations_within_bounds<T: Float>() {
     for family in [
         Family::Random,
         Family::Degenerate,
@@ -68,7 +68,9 @@ fn power_of_two_scaling_is_exact_on_every_family() {
                 .collect();
             for v in Variant::ALL {
                 for q in [Query::TriTri, Query::TriTriBrute, Query::SegSeg, Query::PointTri] {
-                    let (Ok(o1), Ok(o2)) = (run(q, v, &base), run(q, v, &scaled)) else { continue };
+                    let (Ok(o1), Ok(o2)) = (run(q, v, &base, None), run(q, v, &scaled, None)) else {
+                        continue;
+                    };
                     for i in 0..base.len() {
                         let want = o1.d[i] * f * f;
                         if want == 0.0 || (want.abs() >= f64::MIN_POSITIVE && want.is_finite()) {

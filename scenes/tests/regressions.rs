@@ -3,12 +3,12 @@
 //! The family is the label's first path component. Cases found by tests and fuzzing are added
 //! here with a comment naming the root cause.
 
-use tridist::Real;
+use tridist::Query;
 use tridist_scenes::bounds::violations;
-use tridist_scenes::eval::{parse_case_line, truth, Query};
-use tridist_scenes::Family;
+use tridist_scenes::eval::{parse_case_line, truth};
+use tridist_scenes::{Family, Float};
 
-fn replay<T: Real>(file: &str, text: &str) -> usize {
+fn replay<T: Float>(file: &str, text: &str) -> usize {
     let mut n = 0;
     for (ln, line) in text.lines().enumerate() {
         let line = line.trim();
@@ -18,7 +18,7 @@ fn replay<T: Real>(file: &str, text: &str) -> usize {
         let case = parse_case_line::<T>(line).unwrap_or_else(|e| panic!("{file}:{}: {e}", ln + 1));
         let family = Family::parse(case.label.split('/').next().unwrap_or("")).unwrap_or(Family::Random);
         let cases = vec![case];
-        for q in Query::ALL {
+        for &q in Query::ALL {
             let bad = violations(q, family, &cases, &truth(q, &cases));
             assert!(bad.is_empty(), "{file}:{}:\n{}", ln + 1, bad.join("\n"));
         }

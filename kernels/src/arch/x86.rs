@@ -1,108 +1,167 @@
-//! x86-64 vector types: SSE4.1 (f32x4, f64x2) and AVX (f32x8, f64x4, with and without FMA).
+//! x86-64 vector types: SSE4.1 (f32x4, f64x2) and AVX (f32x8, f64x4, with and without FMA),
+//! their capability tokens, and the `#[target_feature]` entry points, one per query, generated
+//! from the registry (`crate::query`).
 //!
-//! Soundness: values of these types are only created inside the `#[target_feature]` entry points
-//! at the bottom of this file (every `Lanes` method is `#[inline(always)]` and is inlined into
-//! them), and those entry points are only called by `crate::dispatch` after runtime feature
-//! detection. The types are private to the crate, so no other code can create them.
+//! Soundness, by construction: a token (`Sse41`, `Avx`, `Avx2Fma`) has a private field and is
+//! made only by `detect()`, after runtime detection found its features. Every vector and mask
+//! value carries its token (a zero-sized field) and every way to make one from nothing takes a
+//! token, so holding a value proves the CPU runs its instructions: each `unsafe` intrinsic call
+//! below is justified by the token of the value it operates on. The entry points enable the
+//! features so that everything inlines into single instructions; an accidental call from
+//! elsewhere would be slow, never undefined.
 
 use core::arch::x86_64::*;
 
-use crate::driver::{run, Job};
+use crate::driver::Job;
+use crate::isa::{Isa, Token};
 use crate::lanes::{Lanes, Mask};
+use crate::query::{for_each_query, Query};
+
+/// Proof that SSE4.1 is available.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Sse41(());
+/// Proof that AVX is available.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Avx(());
+/// Proof that AVX2 and FMA (and AVX) are available.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Avx2Fma(());
+
+impl Sse41 {
+    /// A token when this CPU has SSE4.1 (cached detection).
+    pub(crate) fn detect() -> Option<Self> {
+        Isa::Sse41.is_available().then_some(Sse41(()))
+    }
+}
+impl Avx {
+    /// A token when this CPU has AVX (cached detection).
+    pub(crate) fn detect() -> Option<Self> {
+        Isa::Avx.is_available().then_some(Avx(()))
+    }
+}
+impl Avx2Fma {
+    /// A token when this CPU has AVX, AVX2 and FMA (cached detection).
+    pub(crate) fn detect() -> Option<Self> {
+        Isa::Avx2Fma.is_available().then_some(Avx2Fma(()))
+    }
+}
+
+/// Tokens that prove SSE4.1 (the 128-bit types).
+pub(crate) trait HasSse41: Token {}
+impl HasSse41 for Sse41 {}
+
+/// Tokens that prove AVX (the 256-bit types); `FMA` when they also prove FMA.
+pub(crate) trait HasAvx: Token {
+    const FMA: bool;
+}
+impl HasAvx for Avx {
+    const FMA: bool = false;
+}
+impl HasAvx for Avx2Fma {
+    const FMA: bool = true;
+}
 
 macro_rules! mask_type {
-    ($name:ident, $reg:ty, $and:ident, $or:ident, $andnot:ident, $xor:ident, $movemask:ident, $full:expr, $feat:literal) => {
+    ($name:ident, $cap:ident, $reg:ty, $and:ident, $or:ident, $andnot:ident, $xor:ident, $movemask:ident, $cast:ident, $set1:ident, $full:expr) => {
         #[derive(Clone, Copy)]
-        pub(crate) struct $name($reg);
-        impl Mask for $name {
+        pub(crate) struct $name<K>($reg, K);
+        impl<K: $cap> Mask for $name<K> {
             #[inline(always)]
             fn and(self, o: Self) -> Self {
-                // SAFETY: only reached inside entry points with `$feat` enabled (module docs).
-                Self(unsafe { $and(self.0, o.0) })
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $and(self.0, o.0) }, self.1)
             }
             #[inline(always)]
             fn or(self, o: Self) -> Self {
-                // SAFETY: only reached inside entry points with `$feat` enabled (module docs).
-                Self(unsafe { $or(self.0, o.0) })
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $or(self.0, o.0) }, self.1)
             }
             #[inline(always)]
             fn andnot(self, o: Self) -> Self {
-                // SAFETY: only reached inside entry points with `$feat` enabled (module docs).
-                Self(unsafe { $andnot(o.0, self.0) })
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $andnot(o.0, self.0) }, self.1)
             }
             #[inline(always)]
             fn not(self) -> Self {
-                // SAFETY: only reached inside entry points with `$feat` enabled (module docs).
-                Self(unsafe { $xor(self.0, $movemask::ones()) })
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $xor(self.0, $cast($set1(-1))) }, self.1)
             }
             #[inline(always)]
             fn all(self) -> bool {
-                // SAFETY: only reached inside entry points with `$feat` enabled (module docs).
-                unsafe { $movemask::mask(self.0) == $full }
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                unsafe { $movemask(self.0) == $full }
             }
             #[inline(always)]
             fn any(self) -> bool {
-                // SAFETY: only reached inside entry points with `$feat` enabled (module docs).
-                unsafe { $movemask::mask(self.0) != 0 }
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                unsafe { $movemask(self.0) != 0 }
+            }
+            #[inline(always)]
+            fn bits(self) -> u32 {
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                unsafe { $movemask(self.0) as u32 }
             }
         }
     };
 }
 
-/// Movemask and all-ones helpers per register type.
-macro_rules! mm_helpers {
-    ($name:ident, $reg:ty, $movemask:ident, $ones:expr) => {
-        #[allow(non_camel_case_types)]
-        struct $name;
-        impl $name {
-            #[inline(always)]
-            unsafe fn mask(r: $reg) -> i32 {
-                // SAFETY: the caller guarantees the CPU supports the instruction.
-                unsafe { $movemask(r) }
-            }
-            #[inline(always)]
-            fn ones() -> $reg {
-                // SAFETY: only reached inside entry points with the feature enabled (module docs).
-                unsafe { $ones }
-            }
-        }
-    };
-}
-
-mm_helpers!(mm_ps, __m128, _mm_movemask_ps, _mm_castsi128_ps(_mm_set1_epi32(-1)));
-mm_helpers!(mm_pd, __m128d, _mm_movemask_pd, _mm_castsi128_pd(_mm_set1_epi32(-1)));
-mm_helpers!(mm256_ps, __m256, _mm256_movemask_ps, _mm256_castsi256_ps(_mm256_set1_epi32(-1)));
-mm_helpers!(mm256_pd, __m256d, _mm256_movemask_pd, _mm256_castsi256_pd(_mm256_set1_epi32(-1)));
-
-mask_type!(M32x4, __m128, _mm_and_ps, _mm_or_ps, _mm_andnot_ps, _mm_xor_ps, mm_ps, 0xf, "sse4.1");
-mask_type!(M64x2, __m128d, _mm_and_pd, _mm_or_pd, _mm_andnot_pd, _mm_xor_pd, mm_pd, 0x3, "sse4.1");
+mask_type!(
+    M32x4,
+    HasSse41,
+    __m128,
+    _mm_and_ps,
+    _mm_or_ps,
+    _mm_andnot_ps,
+    _mm_xor_ps,
+    _mm_movemask_ps,
+    _mm_castsi128_ps,
+    _mm_set1_epi32,
+    0xf
+);
+mask_type!(
+    M64x2,
+    HasSse41,
+    __m128d,
+    _mm_and_pd,
+    _mm_or_pd,
+    _mm_andnot_pd,
+    _mm_xor_pd,
+    _mm_movemask_pd,
+    _mm_castsi128_pd,
+    _mm_set1_epi32,
+    0x3
+);
 mask_type!(
     M32x8,
+    HasAvx,
     __m256,
     _mm256_and_ps,
     _mm256_or_ps,
     _mm256_andnot_ps,
     _mm256_xor_ps,
-    mm256_ps,
-    0xff,
-    "avx"
+    _mm256_movemask_ps,
+    _mm256_castsi256_ps,
+    _mm256_set1_epi32,
+    0xff
 );
 mask_type!(
     M64x4,
+    HasAvx,
     __m256d,
     _mm256_and_pd,
     _mm256_or_pd,
     _mm256_andnot_pd,
     _mm256_xor_pd,
-    mm256_pd,
-    0xf,
-    "avx"
+    _mm256_movemask_pd,
+    _mm256_castsi256_pd,
+    _mm256_set1_epi32,
+    0xf
 );
 
-/// One vector type: `$fma` says whether `mul_add` is fused.
+/// One vector type over a token `K: $cap`; `mul_add` is fused when `$fma` holds for `K`.
 macro_rules! vec_type {
     (
-        $name:ident, $s:ty, $n:expr, $reg:ty, $mask:ident, $feat:literal,
+        $name:ident, $cap:ident, $fma:expr, $s:ty, $n:expr, $reg:ty, $mask:ident,
         set1 = $set1:ident, loadu = $loadu:ident, storeu = $storeu:ident,
         add = $add:ident, sub = $sub:ident, mul = $mul:ident, div = $div:ident,
         min = $min:ident, max = $max:ident, sqrt = $sqrt:ident, and = $and:ident,
@@ -110,104 +169,111 @@ macro_rules! vec_type {
         lt = $lt:expr, le = $le:expr, eq = $eq:expr, bits = $bits:ty
     ) => {
         #[derive(Clone, Copy)]
-        pub(crate) struct $name<const FMA: bool>($reg);
-        impl<const FMA: bool> Lanes for $name<FMA> {
+        pub(crate) struct $name<K>($reg, K);
+        impl<K: $cap> Lanes for $name<K> {
             type S = $s;
-            type M = $mask;
+            type M = $mask<K>;
+            type K = K;
             const N: usize = $n;
-            const FMA: bool = FMA;
+            const FMA: bool = $fma;
             #[inline(always)]
-            fn splat(s: $s) -> Self {
-                // SAFETY: only reached inside entry points with `$feat` enabled (module docs).
-                Self(unsafe { $set1(s) })
+            fn token(self) -> K {
+                self.1
             }
             #[inline(always)]
-            fn load(src: &[$s]) -> Self {
+            fn splat(k: K, s: $s) -> Self {
+                // SAFETY: `k` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $set1(s) }, k)
+            }
+            #[inline(always)]
+            fn load(k: K, src: &[$s]) -> Self {
                 let src = &src[..$n];
                 // SAFETY: `src` has exactly N readable elements (checked by the slice above);
-                // feature enabled as in the module docs.
-                Self(unsafe { $loadu(src.as_ptr()) })
+                // `k` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $loadu(src.as_ptr()) }, k)
             }
             #[inline(always)]
             fn store(self, dst: &mut [$s]) {
                 let dst = &mut dst[..$n];
-                // SAFETY: `dst` has exactly N writable elements; feature as in the module docs.
+                // SAFETY: `dst` has exactly N writable elements; `self.1` is a token (module docs).
                 unsafe { $storeu(dst.as_mut_ptr(), self.0) }
             }
             #[inline(always)]
             fn add(self, o: Self) -> Self {
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                Self(unsafe { $add(self.0, o.0) })
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $add(self.0, o.0) }, self.1)
             }
             #[inline(always)]
             fn sub(self, o: Self) -> Self {
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                Self(unsafe { $sub(self.0, o.0) })
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $sub(self.0, o.0) }, self.1)
             }
             #[inline(always)]
             fn mul(self, o: Self) -> Self {
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                Self(unsafe { $mul(self.0, o.0) })
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $mul(self.0, o.0) }, self.1)
             }
             #[inline(always)]
             fn div(self, o: Self) -> Self {
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                Self(unsafe { $div(self.0, o.0) })
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $div(self.0, o.0) }, self.1)
             }
             #[inline(always)]
             fn mul_add(self, b: Self, c: Self) -> Self {
-                if FMA {
-                    // SAFETY: FMA = true is only instantiated by the avx2+fma entry points.
-                    Self(unsafe { $fmadd(self.0, b.0, c.0) })
+                if $fma {
+                    // SAFETY: `$fma` holds only for tokens that prove FMA (`Avx2Fma`): detection
+                    // found it (module docs).
+                    Self(unsafe { $fmadd(self.0, b.0, c.0) }, self.1)
                 } else {
                     self.mul(b).add(c)
                 }
             }
             #[inline(always)]
             fn min(self, o: Self) -> Self {
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                Self(unsafe { $min(self.0, o.0) })
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $min(self.0, o.0) }, self.1)
             }
             #[inline(always)]
             fn max(self, o: Self) -> Self {
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                Self(unsafe { $max(self.0, o.0) })
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $max(self.0, o.0) }, self.1)
             }
             #[inline(always)]
             fn abs(self) -> Self {
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                Self(unsafe { $andnot($set1(-0.0), self.0) })
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $andnot($set1(-0.0), self.0) }, self.1)
             }
             #[inline(always)]
             fn sqrt(self) -> Self {
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                Self(unsafe { $sqrt(self.0) })
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $sqrt(self.0) }, self.1)
             }
             #[inline(always)]
-            fn lt(self, o: Self) -> $mask {
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                $mask(unsafe { $lt(self.0, o.0) })
+            fn lt(self, o: Self) -> $mask<K> {
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                $mask(unsafe { $lt(self.0, o.0) }, self.1)
             }
             #[inline(always)]
-            fn le(self, o: Self) -> $mask {
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                $mask(unsafe { $le(self.0, o.0) })
+            fn le(self, o: Self) -> $mask<K> {
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                $mask(unsafe { $le(self.0, o.0) }, self.1)
             }
             #[inline(always)]
-            fn eq(self, o: Self) -> $mask {
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                $mask(unsafe { $eq(self.0, o.0) })
+            fn eq(self, o: Self) -> $mask<K> {
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                $mask(unsafe { $eq(self.0, o.0) }, self.1)
             }
             #[inline(always)]
-            fn select(m: $mask, t: Self, f: Self) -> Self {
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                Self(unsafe { $blendv(f.0, t.0, m.0) })
+            fn select(m: $mask<K>, t: Self, f: Self) -> Self {
+                // SAFETY: `t.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $blendv(f.0, t.0, m.0) }, t.1)
             }
             #[inline(always)]
             fn exponent(self) -> Self {
-                let m = <$s>::from_bits(<$s as crate::real::Real>::EXP_MASK_BITS as $bits);
-                // SAFETY: feature enabled in the calling entry point (module docs).
-                Self(unsafe { $and(self.0, $set1(m)) })
+                use crate::real::sealed::Sealed;
+                let m = <$s>::from_bits(<$s as Sealed>::EXP_MASK as $bits);
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $and(self.0, $set1(m)) }, self.1)
             }
         }
     };
@@ -215,11 +281,12 @@ macro_rules! vec_type {
 
 vec_type!(
     F32x4,
+    HasSse41,
+    false,
     f32,
     4,
     __m128,
     M32x4,
-    "sse4.1",
     set1 = _mm_set1_ps,
     loadu = _mm_loadu_ps,
     storeu = _mm_storeu_ps,
@@ -241,11 +308,12 @@ vec_type!(
 );
 vec_type!(
     F64x2,
+    HasSse41,
+    false,
     f64,
     2,
     __m128d,
     M64x2,
-    "sse4.1",
     set1 = _mm_set1_pd,
     loadu = _mm_loadu_pd,
     storeu = _mm_storeu_pd,
@@ -267,11 +335,12 @@ vec_type!(
 );
 vec_type!(
     F32x8,
+    HasAvx,
+    K::FMA,
     f32,
     8,
     __m256,
     M32x8,
-    "avx",
     set1 = _mm256_set1_ps,
     loadu = _mm256_loadu_ps,
     storeu = _mm256_storeu_ps,
@@ -293,11 +362,12 @@ vec_type!(
 );
 vec_type!(
     F64x4,
+    HasAvx,
+    K::FMA,
     f64,
     4,
     __m256d,
     M64x4,
-    "avx",
     set1 = _mm256_set1_pd,
     loadu = _mm256_loadu_pd,
     storeu = _mm256_storeu_pd,
@@ -318,20 +388,61 @@ vec_type!(
     bits = u64
 );
 
-/// The `#[target_feature]` entry points: thin wrappers that instantiate the generic driver.
-macro_rules! entry {
-    ($name:ident, $t:ty, $lanes:ty, $feat:literal) => {
-        /// # Safety
-        /// The CPU must support the features named in `#[target_feature]`.
-        #[target_feature(enable = $feat)]
-        pub(crate) unsafe fn $name(job: &mut Job<'_, $t>) {
-            run::<$lanes>(job)
+/// The entry points of one instruction set: for each query and precision a
+/// `#[target_feature]` function instantiating the driver with the token's lane types. Separate
+/// functions in one module per precision, so the compiler works on small units and optimises
+/// them in parallel (it partitions code units by module).
+macro_rules! simd_entries {
+    ([($tok:ty), ($feat:literal), ($l32:ty), ($l64:ty)] $($v:ident, $name:literal, $k:path, $about:literal;)*) => {
+        mod p32 {
+            use super::*;
+            $(
+                #[target_feature(enable = $feat)]
+                #[allow(non_snake_case)]
+                pub(super) fn $v(k: $tok, job: &mut Job<'_, f32>) {
+                    crate::driver::run::<$l32, $k>(k, job)
+                }
+            )*
+        }
+        mod p64 {
+            use super::*;
+            $(
+                #[target_feature(enable = $feat)]
+                #[allow(non_snake_case)]
+                pub(super) fn $v(k: $tok, job: &mut Job<'_, f64>) {
+                    crate::driver::run::<$l64, $k>(k, job)
+                }
+            )*
+        }
+        impl Token for $tok {
+            fn run_f32(self, job: &mut Job<'_, f32>) {
+                match job.query {
+                    // SAFETY: `self` is a token of this instruction set: detection found every
+                    // feature the entry point enables.
+                    $(Query::$v => unsafe { p32::$v(self, job) },)*
+                }
+            }
+            fn run_f64(self, job: &mut Job<'_, f64>) {
+                match job.query {
+                    // SAFETY: as above.
+                    $(Query::$v => unsafe { p64::$v(self, job) },)*
+                }
+            }
         }
     };
 }
-entry!(sse41_f32, f32, F32x4<false>, "sse4.1");
-entry!(sse41_f64, f64, F64x2<false>, "sse4.1");
-entry!(avx_f32, f32, F32x8<false>, "avx");
-entry!(avx_f64, f64, F64x4<false>, "avx");
-entry!(avx2fma_f32, f32, F32x8<true>, "avx2,fma");
-entry!(avx2fma_f64, f64, F64x4<true>, "avx2,fma");
+
+// One module per instruction set: the compiler partitions code units by module, so the
+// entry points of different instruction sets are optimised in parallel.
+mod sse41 {
+    use super::*;
+    for_each_query!(simd_entries, (Sse41), ("sse4.1"), (F32x4<Sse41>), (F64x2<Sse41>));
+}
+mod avx {
+    use super::*;
+    for_each_query!(simd_entries, (Avx), ("avx"), (F32x8<Avx>), (F64x4<Avx>));
+}
+mod avx2fma {
+    use super::*;
+    for_each_query!(simd_entries, (Avx2Fma), ("avx2,fma"), (F32x8<Avx2Fma>), (F64x4<Avx2Fma>));
+}

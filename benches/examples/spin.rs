@@ -1,0 +1,56 @@
+//! Runs one query on one workload for a few seconds (for `perf record`):
+//! `cargo run --release -p tridist-benches --example spin -- tri_tri random f32 avx2fma 5`
+use tridist::{Engine, Intersection, Isa, Query};
+use tridist_scenes::workload::Workload;
+use tridist_scenes::{families, Family};
+
+fn main() {
+    let a: Vec<String> = std::env::args().skip(1).collect();
+    let q = Query::parse(&a[0]).expect("query");
+    let fam = Family::parse(&a[1]).expect("family");
+    let isa = Isa::parse(&a[3]).unwrap_or(Isa::Scalar);
+    let secs: f64 = a[4].parse().unwrap_or(5.0);
+    let pairs: Vec<_> = families::generate::<f64>(fam, 7, 4096).into_iter().map(|c| (c.a, c.b)).collect();
+    let e = Engine::new(isa).expect("available");
+    let t = std::time::Instant::now();
+    let mut n = 0usize;
+    macro_rules! go {
+        ($t:ty) => {{
+            let w = Workload::<$t>::new(&pairs, 0.02);
+            let len = w.len(q);
+            let (mut out, mut v) = (vec![0.0 as $t; len], vec![Intersection::Invalid; len]);
+            let mut counts = tridist::PathCounts::default();
+            while t.elapsed().as_secs_f64() < secs {
+                counts.add(&w.run(q, e, false, &mut out, &mut v).expect("run"));
+                n += len;
+            }
+            println!("{counts:?}");
+        }};
+    }
+    if a[3] == "fcl" {
+        // the peer on the same pairs: `spin tri_tri random f64 fcl 5`
+        use tridist_scenes::peer::{Lib, Shapes};
+        macro_rules! fcl {
+            ($t:ty) => {{
+                let c = |t: &tridist::Triangle<f64>| t.map(|p| p.map(|x| x as $t));
+                let (ta, tb): (Vec<_>, Vec<_>) = pairs.iter().map(|(x, y)| (c(x), c(y))).unzip();
+                let s = Shapes::for_lib(Lib::Fcl, &ta, &tb);
+                let mut out = vec![0.0 as $t; ta.len()];
+                while t.elapsed().as_secs_f64() < secs {
+                    s.distances(&mut out);
+                    n += ta.len();
+                }
+            }};
+        }
+        if a[2] == "f32" {
+            fcl!(f32)
+        } else {
+            fcl!(f64)
+        }
+    } else if a[2] == "f32" {
+        go!(f32)
+    } else {
+        go!(f64)
+    }
+    println!("{:.2} M/s", n as f64 / t.elapsed().as_secs_f64() / 1e6);
+}

@@ -1,0 +1,99 @@
+//! Brute force (Krestenitis & Koziara's baseline): the minimum over the 15 feature pairs (9
+//! edge-edge, 6 vertex-face) unless the separating-axis test finds an overlap, then 0 with a
+//! contact point pair. Also the pieces PQP's accurate stage shares: vertex-face candidates and
+//! contact points.
+
+use super::point_tri::point_triangle;
+use super::sat::overlaps;
+use super::seg_seg::seg_seg;
+use super::{edges, finish, keep_min, normal, scale_pair, swap, Kernel, Out, Params, Res};
+use crate::lanes::{Cx, Lanes, Mask, V3};
+
+/// The brute-force query (registry entry `tri_tri_brute`).
+pub(crate) struct Brute;
+
+impl Kernel for Brute {
+    const KA: usize = 3;
+    const KB: usize = 3;
+    #[inline(always)]
+    fn stage<L: Lanes, const ST: u8>(a: &[V3<L>; 3], b: &[V3<L>; 3], prm: &Params<L::S>) -> Out<L> {
+        let (sc, s, t) = scale_pair::<L, 3, 3>(a, b);
+        let r = tri_tri_brute(&s, &t);
+        finish::<L, 3, 3, false>(&sc, &s, &t, None, r, prm)
+    }
+}
+
+/// Minimum over the 15 feature pairs (9 edge-edge, 6 vertex-face), the brute-force baseline of
+/// Krestenitis & Koziara. Does not detect interpenetration.
+#[inline(always)]
+fn min15<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> Res<L> {
+    let e = edges(s);
+    let f = edges(t);
+    let mut best = seg_seg(s[0], e[0], t[0], f[0]);
+    for i in 0..3 {
+        for j in 0..3 {
+            if i + j > 0 {
+                keep_min(&mut best, seg_seg(s[i], e[i], t[j], f[j]));
+            }
+        }
+    }
+    vertex_faces(s, t, &mut best);
+    best
+}
+
+#[inline(always)]
+pub(crate) fn vertex_faces<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
+    for k in 0..3 {
+        // point_triangle(x, ..) returns p = x: a vertex of s needs no swap, one of t does.
+        keep_min(best, point_triangle(s[k], t[0], t[1], t[2]));
+        keep_min(best, swap(point_triangle(t[k], s[0], s[1], s[2])));
+    }
+}
+
+/// Candidates where an edge of `a` crosses the plane of `b` (see [`contact_points`]).
+#[inline(always)]
+fn pierce<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3], flip: bool, best: &mut Res<L>) {
+    let ea = edges(a);
+    let n = normal(&edges(b));
+    for k in 0..3 {
+        let h0 = a[k].sub(b[0]).dot(n);
+        let h1 = a[(k + 1) % 3].sub(b[0]).dot(n);
+        // Parameter of the plane crossing, h0 / (h0 - h1), clamped to the edge; the sign is
+        // moved to the numerator so the guarded division sees a non-negative divisor.
+        let den = h0.sub(h1);
+        let num = L::select(den.lt(Cx::of(h0).zero()), h0.neg(), h0);
+        let tpar = num.safe_div(den.abs()).clamp01();
+        let x = a[k].add_scaled(ea[k], tpar);
+        let r = point_triangle(x, b[0], b[1], b[2]);
+        keep_min(best, if flip { swap(r) } else { r });
+    }
+}
+
+/// For interpenetrating lanes: a point where an edge of one triangle pierces the other (or the
+/// nearest feature pair when none is found numerically), so that both returned closest points
+/// lie on their triangles. The distance reported is 0 regardless.
+#[inline(always)]
+fn contact_points<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
+    pierce(s, t, false, best);
+    pierce(t, s, true, best);
+}
+
+/// Brute force: `overlaps ? 0 : min15`, both computed for every lane.
+#[inline(always)]
+pub(crate) fn tri_tri_brute<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> Res<L> {
+    let mut best = min15(s, t);
+    overlap(s, t, overlaps(s, t), &mut best);
+    best
+}
+
+/// For the `hit` lanes (overlapping triangles): squared distance 0 and a contact point pair.
+#[inline(always)]
+pub(crate) fn overlap<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], hit: L::M, best: &mut Res<L>) {
+    if hit.any() {
+        let mut cp = *best;
+        contact_points(s, t, &mut cp);
+        best.p = V3::select(hit, cp.p, best.p);
+        best.q = V3::select(hit, cp.q, best.q);
+        best.d = L::select(hit, Cx::of(best.d).zero(), best.d);
+    }
+}

@@ -1,0 +1,293 @@
+//! The fast stage of triangle-triangle distance: every lane runs the same straight-line code,
+//! with no early exit, no per-candidate certification and no parameter recovery. In a local
+//! frame (`o = a_0`, so far from the origin the arithmetic is as accurate as near it):
+//!
+//! * the nine edge pairs (Ericson 5.1.9 with the closest-point parameter from accurately
+//!   rounded cross products, as in [`super::seg_seg`], edge norms and reciprocals shared);
+//! * the six vertex-face candidates whose projection falls inside the face, as parametric
+//!   points (barycentric weights from the same inside tests);
+//! * where the triangles straddle each other's planes, the edge crossing deepest inside the
+//!   other triangle as a contact candidate (distance 0), interpolating the same inside tests.
+//!
+//! Every candidate is a pair of points with parameters in [0, 1] on exact local vertices, so
+//! one static error bound covers them all, and each carries the direction its optimality is
+//! certified along (the common normal of two edges, a face normal, or the witness). The
+//! certificate ([`FastOut`]) is computed once, at the end: `hi = |W| + 24 u R`,
+//! `lo = gap along v - 8 u R` (`R` the largest local vertex norm; see the constants).
+//! Pairs whose interval is within the tolerance are done; the others are re-certified tightly
+//! and, if need be, recomputed by the accurate stage ([`super::pqp`]).
+
+use super::seg_seg::seg_seg_pre;
+use super::{normal_pair, Res};
+use crate::lanes::{Cx, Lanes, Mask, V3};
+use crate::real::Real;
+
+/// The fast stage's answer (local frame) and its certified interval.
+pub(crate) struct FastOut<L> {
+    pub r: Res<L>,
+    pub lo: L,
+    pub hi: L,
+}
+
+/// Static rounding bound of any candidate's witness difference, in units of `u R`: an edge
+/// pair `W = -r + t f - s e` rounds `r`, `f`, `e` once each and two multiply-adds (three
+/// unfused), each partial sum at most `|r| + |f| + |e| <= 6R`: at most `20 u R`; vertex-face
+/// and contact witnesses have fewer or smaller terms; plus `2 u R` for the local frame's own
+/// rounding. Rounded up.
+const C_HI: f64 = 24.0;
+/// Static rounding bound of the projection gap, in units of `u R |v|`: two dot products of at
+/// most `3 u |v| R` each, plus the local frame's `2 u R`.
+const C_LO: f64 = 8.0;
+
+/// How far barycentric parameters `l1, l2 >= 0` overshoot the face (`l1 + l2 - 1`, or 0): the
+/// point with those parameters lies within that times the face's edge lengths (at most 2R),
+/// added to the certificate's `hi`. (For candidates inside the face it is a few rounding
+/// errors; the exact clamping of [`super::cert`] would cost more than it saves here.)
+#[inline(always)]
+fn overshoot<L: Lanes>(l1: L, l2: L) -> L {
+    let k = Cx::of(l1);
+    l1.add(l2).sub(k.one()).max(k.zero())
+}
+
+/// The best candidate so far, kept small (the vector registers are few): its squared
+/// distance, up to three parameters and a code naming the candidate (0-8 edge pair 3i+j, 9-11
+/// vertex of t over the face of s, 12-14 vertex of s over the face of t, 15-17 an edge of t
+/// crossing s, 18-20 an edge of s crossing t). The points and the certification direction are
+/// rebuilt from these once, at the end.
+struct Best<L> {
+    d: L,
+    a: L,
+    b: L,
+    c: L,
+    code: L,
+}
+
+impl<L: Lanes> Best<L> {
+    #[inline(always)]
+    fn keep(&mut self, d: L, a: L, b: L, code: L) {
+        let better = d.lt(self.d);
+        self.d = d.min(self.d);
+        self.a = L::select(better, a, self.a);
+        self.b = L::select(better, b, self.b);
+        self.code = L::select(better, code, self.code);
+    }
+}
+
+/// `x[i]` for a lane index `i` in {0, 1, 2} given as masks `i == 1`, `i == 2`.
+#[inline(always)]
+fn pick<L: Lanes>(is1: L::M, is2: L::M, x: &[V3<L>; 3]) -> V3<L> {
+    V3::select(is2, x[2], V3::select(is1, x[1], x[0]))
+}
+
+/// Is `x` strictly inside (0, 1) by more than rounding?
+#[inline(always)]
+fn interior<L: Lanes>(x: L) -> L::M {
+    let k = Cx::of(x);
+    let eps = k.u().mul(k.c(64.0));
+    x.gt(eps).and(x.lt(k.one().sub(eps)))
+}
+
+/// The fast candidate and its certificate for local triangles `s` (with `s[0] = 0`) and `t`.
+#[inline(always)]
+pub(crate) fn tri_tri_fast<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut<L> {
+    let k = Cx::of(t[0].x);
+    let u = k.u();
+    let z = k.zero();
+    let one = k.one();
+    let tiny = k.splat(L::S::MIN_POSITIVE);
+    let e = [s[1], s[2].sub(s[1]), s[2].neg()];
+    let f = [t[1].sub(t[0]), t[2].sub(t[1]), t[0].sub(t[2])];
+    let iea =
+        [one.div(e[0].norm2().max(tiny)), one.div(e[1].norm2().max(tiny)), one.div(e[2].norm2().max(tiny))];
+    let ifb =
+        [one.div(f[0].norm2().max(tiny)), one.div(f[1].norm2().max(tiny)), one.div(f[2].norm2().max(tiny))];
+    let mut best = Best { d: k.inf(), a: z, b: z, c: z, code: z };
+    for i in 0..3 {
+        for j in 0..3 {
+            let (ss, tt) = seg_seg_pre(s[i], e[i], iea[i], t[j], f[j], ifb[j]);
+            // W = q - p = (b_j - a_i) + t f_j - s e_i
+            let w = t[j].sub(s[i]).add_scaled(f[j], tt).add_scaled(e[i], ss.neg());
+            best.keep(w.norm2(), ss, tt, k.c((3 * i + j) as f64));
+        }
+    }
+    // Vertex-face: accurate normals from the best-conditioned edge pairs, inside tests
+    // g_m . (x - a_m) >= 0 with g_m = n x e_m (their values are barycentric weights times |n|^2).
+    let (pa, qa) = normal_pair(&e);
+    let (pb, qb) = normal_pair(&f);
+    let na = pa.cross_accurate(qa);
+    let nb = pb.cross_accurate(qb);
+    let sixteen_u = u.mul(k.c(16.0));
+    let ok_a = na.norm_inf().gt(pa.norm_inf().mul(qa.norm_inf()).mul(sixteen_u));
+    let ok_b = nb.norm_inf().gt(pb.norm_inf().mul(qb.norm_inf()).mul(sixteen_u));
+    let inn_a = one.div(na.norm2().max(tiny));
+    let inn_b = one.div(nb.norm2().max(tiny));
+    // heights over the other's plane (times |n|) and inside values, per vertex:
+    // g_m . (x - a_m) = g_m . x - g_m . a_m
+    let mut h_b = [z; 3];
+    let mut h_a = [z; 3];
+    let mut wa = [[z; 3]; 3]; // wa[k][m]: vertex k of t against edge m of s
+    let mut wb = [[z; 3]; 3]; // wb[k][m]: vertex k of s against edge m of t
+    let hb0 = nb.dot(t[0]);
+    for m in 0..3 {
+        let ga = na.cross(e[m]);
+        let gb = nb.cross(f[m]);
+        let (ca, cb) = (ga.dot(s[m]), gb.dot(t[m]));
+        for kk in 0..3 {
+            wa[kk][m] = ga.dot(t[kk]).sub(ca);
+            wb[kk][m] = gb.dot(s[kk]).sub(cb);
+        }
+    }
+    for kk in 0..3 {
+        h_b[kk] = na.dot(t[kk]);
+        h_a[kk] = nb.dot(s[kk]).sub(hb0);
+        // vertex kk of t over the face of s: p = l1 a1 + l2 a2 (a0 = 0)
+        let inside = wa[kk][0].ge(z).and(wa[kk][1].ge(z)).and(wa[kk][2].ge(z)).and(ok_a);
+        let (l1, l2) = (wa[kk][2].mul(inn_a), wa[kk][0].mul(inn_a));
+        let w = t[kk].sub(s[1].scale(l1).add_scaled(s[2], l2));
+        best.keep(L::select(inside, w.norm2(), k.inf()), l1, l2, k.c((9 + kk) as f64));
+        // vertex kk of s over the face of t: q = b0 + m1 f0 - m2 f2
+        let inside = wb[kk][0].ge(z).and(wb[kk][1].ge(z)).and(wb[kk][2].ge(z)).and(ok_b);
+        let (m1, m2) = (wb[kk][2].mul(inn_b), wb[kk][0].mul(inn_b));
+        let w = t[0].add_scaled(f[0], m1).add_scaled(f[2], m2.neg()).sub(s[kk]);
+        best.keep(L::select(inside, w.norm2(), k.inf()), m1, m2, k.c((12 + kk) as f64));
+    }
+    // Contact: only where each triangle has vertices on both sides of (or on) the other's
+    // plane; the crossing of an edge deepest inside the other triangle, interpolating the
+    // inside values along the edge.
+    let maybe = straddles(&h_b).and(straddles(&h_a)).and(ok_a).and(ok_b);
+    if maybe.any() {
+        let none = k.splat(-L::S::INFINITY);
+        let (mut depth, mut ca, mut cb, mut cc, mut code) = (none, z, z, z, z);
+        for kk in 0..3 {
+            let k1 = (kk + 1) % 3;
+            for (h, w, inn, base) in [(&h_b, &wa, inn_a, 15), (&h_a, &wb, inn_b, 18)] {
+                // edge kk of one triangle through the other's plane
+                let tau = crossing(h[kk], h[k1]);
+                let wm = lerp3(w[kk], w[k1], tau);
+                let dep = wm[0].min(wm[1]).min(wm[2]).mul(inn);
+                let dep = L::select(h[kk].mul(h[k1]).le(z), dep, none);
+                let better = dep.gt(depth);
+                depth = L::select(better, dep, depth);
+                ca = L::select(better, wm[2].mul(inn).max(z), ca);
+                cb = L::select(better, wm[0].mul(inn).max(z), cb);
+                cc = L::select(better, tau, cc);
+                code = L::select(better, k.c((base + kk) as f64), code);
+            }
+        }
+        let hit = maybe.and(depth.ge(z));
+        best.d = L::select(hit, z, best.d);
+        best.a = L::select(hit, ca, best.a);
+        best.b = L::select(hit, cb, best.b);
+        best.c = L::select(hit, cc, best.c);
+        best.code = L::select(hit, code, best.code);
+    }
+    let (p, q, w, v, over) = rebuild(s, t, &e, &f, na, nb, &best, (inn_a, inn_b));
+    // The certificate (static bounds on the local extent R).
+    let mut r2 = s[1].norm2().max(s[2].norm2());
+    for x in t {
+        r2 = r2.max(x.norm2());
+    }
+    let up = one.add(u.mul(k.c(4.0)));
+    let rr = r2.sqrt().mul(up);
+    // (a face point's parameter overshoot moves it off the face by at most that times 2R)
+    let hi = w.norm2().sqrt().mul(up).add(u.mul(k.c(C_HI)).add(over.mul(k.c(2.0))).mul(rr));
+    let smax = z.max(v.dot(s[1])).max(v.dot(s[2]));
+    let tmin = v.dot(t[0]).min(v.dot(t[1])).min(v.dot(t[2]));
+    let vn = v.norm2().sqrt().mul(up);
+    let low = one.sub(u.mul(k.c(2.0)));
+    let lo = tmin.sub(smax).mul(low).sub(u.mul(k.c(C_LO)).mul(rr).mul(vn)).safe_div(vn).mul(low).max(z);
+    FastOut { r: Res { d: best.d, p, q }, lo, hi }
+}
+
+/// Rebuilds the winner of every lane from its code and parameters: the answer's points on `s`
+/// and `t`, the witness difference `w = q - p` (of parametric points), the certification
+/// direction (the common normal of two edges met in their interiors, a face normal, or `w`)
+/// and the parameters' overshoot.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn rebuild<L: Lanes>(
+    s: &[V3<L>; 3],
+    t: &[V3<L>; 3],
+    e: &[V3<L>; 3],
+    f: &[V3<L>; 3],
+    na: V3<L>,
+    nb: V3<L>,
+    best: &Best<L>,
+    inn: (L, L),
+) -> (V3<L>, V3<L>, V3<L>, V3<L>, L) {
+    let k = Cx::of(best.d);
+    let c = best.code;
+    let (ee, vfa, vfb, cta) = (c.lt(k.c(9.0)), c.lt(k.c(12.0)), c.lt(k.c(15.0)), c.lt(k.c(18.0)));
+    let (vfa, vfb, cta) = (vfa.andnot(ee), vfb.andnot(vfa), cta.andnot(vfb));
+    let ctb = cta.or(vfb).or(vfa).or(ee).not();
+    // indices: an edge pair's i and j; a vertex's or crossing edge's index
+    let i1 = c.ge(k.c(3.0)).and(c.lt(k.c(6.0)));
+    let i2 = c.ge(k.c(6.0)).and(ee);
+    let jf = c.sub(L::select(i2, k.c(6.0), L::select(i1, k.c(3.0), k.zero())));
+    let base = L::select(
+        ee,
+        jf,
+        c.sub(L::select(vfa, k.c(9.0), L::select(vfb, k.c(12.0), L::select(cta, k.c(15.0), k.c(18.0))))),
+    );
+    let (j1, j2) = (base.eq(k.one()), base.eq(k.c(2.0)));
+    let (a, b) = (best.a, best.b);
+    // points of each kind, then the lane's own
+    let face_a = s[1].scale(a).add_scaled(s[2], b);
+    let face_b = t[0].add_scaled(f[0], a).add_scaled(f[2], b.neg());
+    let p_ee = pick(i1, i2, s).add_scaled(pick(i1, i2, e), a);
+    let q_ee = pick(j1, j2, t).add_scaled(pick(j1, j2, f), b);
+    let p_vb = pick(j1, j2, s);
+    let q_va = pick(j1, j2, t);
+    let x_ta = pick(j1, j2, t).add_scaled(pick(j1, j2, f), best.c);
+    let x_sb = pick(j1, j2, s).add_scaled(pick(j1, j2, e), best.c);
+    let p = V3::select(ee, p_ee, V3::select(vfb, p_vb, V3::select(ctb, x_sb, face_a)));
+    let q = V3::select(ee, q_ee, V3::select(vfa, q_va, V3::select(cta, x_ta, face_b)));
+    let w = q.sub(p);
+    // A contact is answered with the crossing point and its projection onto the other plane
+    // along the accurate normal (the parametric face point above, from interpolated
+    // barycentric weights, is what the certificate needs but is less accurate).
+    let ct = cta.or(ctb);
+    let (p_out, q_out) = if ct.any() {
+        let pa_x = x_ta.sub(na.scale(na.dot(x_ta).mul(inn.0)));
+        let pb_x = x_sb.sub(nb.scale(nb.dot(x_sb.sub(t[0])).mul(inn.1)));
+        (V3::select(cta, pa_x, p), V3::select(ctb, pb_x, q))
+    } else {
+        (p, q)
+    };
+    // direction
+    let both = ee.and(interior(a)).and(interior(b));
+    let n = pick(i1, i2, e).cross_accurate(pick(j1, j2, f));
+    let v = V3::select(both, n, V3::select(vfa, na, V3::select(vfb, nb, w)));
+    // oriented like w; scaled to unit magnitude (products of small local differences underflow)
+    let v = v.unit_pow2();
+    let v = V3::select(both.or(vfa).or(vfb), V3::select(v.dot(w).lt(k.zero()), v.neg(), v), w.unit_pow2());
+    let over = L::select(ee, k.zero(), overshoot(a, b));
+    (p_out, q_out, w, v, over)
+}
+
+/// Parameter of the crossing of an edge whose ends are at heights `h0`, `h1` over a plane,
+/// clamped to [0, 1]; the sign moved to the numerator so the guarded division sees a
+/// non-negative divisor.
+#[inline(always)]
+fn crossing<L: Lanes>(h0: L, h1: L) -> L {
+    let k = Cx::of(h0);
+    let den = h0.sub(h1);
+    let num = L::select(den.lt(k.zero()), h0.neg(), h0);
+    num.safe_div(den.abs()).clamp01()
+}
+
+/// Do heights `h` of three vertices over a plane have both signs (or a zero)? (A function, not
+/// a closure: closures compile without the entry point's target features.)
+#[inline(always)]
+fn straddles<L: Lanes>(h: &[L; 3]) -> L::M {
+    let z = Cx::of(h[0]).zero();
+    let lo = h[0].min(h[1]).min(h[2]);
+    let hi = h[0].max(h[1]).max(h[2]);
+    lo.le(z).and(hi.ge(z))
+}
+
+/// `a + tau (b - a)`, componentwise.
+#[inline(always)]
+fn lerp3<L: Lanes>(a: [L; 3], b: [L; 3], tau: L) -> [L; 3] {
+    [a[0].add(tau.mul(b[0].sub(a[0]))), a[1].add(tau.mul(b[1].sub(a[1]))), a[2].add(tau.mul(b[2].sub(a[2])))]
+}

@@ -1,0 +1,407 @@
+//! The algorithms, each written once over [`Lanes`] (scalar, SSE4.1, AVX and AVX2+FMA all
+//! instantiate these same functions), one file per algorithm:
+//!
+//! | file | algorithm |
+//! |---|---|
+//! | [`seg_seg`] | segment-segment closest points (Ericson 5.1.9, accurate cross products) |
+//! | [`point_tri`] | point-triangle closest point (Ericson 5.1.5, Voronoi regions by triple products) |
+//! | [`sat`] | triangle-triangle separating-axis overlap (PQP's TriContact) and its certified fast form |
+//! | [`fast`] | the fast stage of triangle-triangle distance (15 features, plain loops, one certificate) |
+//! | [`pqp`] | the accurate stage: PQP's TriDist with certified early exits (Larsen et al.) |
+//! | [`brute`] | brute force: 15 feature pairs + separating axes (Krestenitis & Koziara's baseline) |
+//! | [`within`] | within-margin: a certified bounding-box test, the rest by the distance pipeline |
+//! | [`penalty`] | Krestenitis & Koziara's penalty method with a regularised Newton step |
+//! | [`cert`] | the per-pair certificate: a rigorous interval `[lo, hi]` around the exact distance |
+//!
+//! Precision policy (see ARCHITECTURE.md):
+//! - every query first scales its input by one power of two so that the largest absolute
+//!   coordinate lies in [1, 2): the scaling is exact, so power-of-two scaling of the input scales
+//!   the answer exactly, no intermediate (up to fourth powers of coordinates) can overflow or
+//!   underflow, and every threshold below is relative to the pair's own magnitude;
+//! - non-finite input gives NaN (checked up front, masked per lane);
+//! - every division is guarded (`safe_div`), so degenerate segments and triangles give the
+//!   distance of the point or segment they are instead of NaN;
+//! - every answer carries a certificate ([`cert`]): an interval that provably contains the exact
+//!   distance, whose width decides whether the answer is accepted or escalated.
+
+pub(crate) mod brute;
+pub(crate) mod cert;
+pub(crate) mod fast;
+pub(crate) mod penalty;
+pub(crate) mod point_tri;
+pub(crate) mod pqp;
+pub(crate) mod sat;
+pub(crate) mod seg_seg;
+pub(crate) mod within;
+
+use crate::lanes::{Cx, Lanes, Mask, V3};
+use crate::real::Real;
+
+/// Squared distance and a pair of closest points (first on the first primitive), prescaled.
+#[derive(Clone, Copy)]
+pub(crate) struct Res<L> {
+    pub d: L,
+    pub p: V3<L>,
+    pub q: V3<L>,
+}
+
+/// What one stage of a query answers for a group of lanes, in the caller's units: the squared
+/// distance `d`, closest points `p`, `q`, the certified interval `[lo, hi]` of the distance
+/// (unsquared), whether the answer is accepted (`ok`: certified within the tolerance, or
+/// non-finite input), and iterations (penalty method).
+#[derive(Clone, Copy)]
+pub(crate) struct Out<L: Lanes> {
+    pub d: L,
+    pub p: V3<L>,
+    pub q: V3<L>,
+    pub lo: L,
+    pub hi: L,
+    pub ok: L::M,
+    pub it: L,
+}
+
+/// Per-job constants, in the working precision.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Params<S> {
+    /// Within-margin: the margin.
+    pub margin: S,
+    /// Tolerance on the certified width: `scaled * S` (the pair's magnitude), `absolute`, and
+    /// `relative * lo`; the largest applies.
+    pub tol_scaled: S,
+    pub tol_abs: S,
+    pub tol_rel: S,
+    /// Penalty method options (already validated).
+    pub penalty: PenaltyParams<S>,
+}
+
+impl<S: Real> Params<S> {
+    /// The same parameters in another precision (f32 to f64 is exact; escalation widens).
+    pub(crate) fn convert<W: Real>(&self) -> Params<W> {
+        let c = |x: S| W::from_f64(x.to_f64());
+        let p = &self.penalty;
+        Params {
+            margin: c(self.margin),
+            tol_scaled: c(self.tol_scaled),
+            tol_abs: c(self.tol_abs),
+            tol_rel: c(self.tol_rel),
+            penalty: PenaltyParams {
+                rho: c(p.rho),
+                reg: c(p.reg),
+                tol: c(p.tol),
+                max_iter: p.max_iter,
+                start: p.start.map(c),
+            },
+        }
+    }
+}
+
+/// Options of the penalty method, relative to the pair (see [`crate::PenaltyOptions`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PenaltyParams<S> {
+    pub rho: S,
+    pub reg: S,
+    pub tol: S,
+    pub max_iter: u32,
+    pub start: [S; 4],
+}
+
+/// One query's algorithm, as the batch driver runs it. Stage 0 runs on every pair; when
+/// `STAGES == 2`, stage 1 runs on the pairs stage 0 did not accept, gathered into full vectors
+/// (lane compaction); before that, when `RECERT`, stage 0's own answer is re-certified with the
+/// tight certificate (the answer is usually right, only its first interval too wide). Pairs
+/// still not accepted are handed to the full pipeline of the `NEXT` query (same precision), or
+/// else re-run in f64 (`WIDEN`, f32 input only).
+pub(crate) trait Kernel {
+    /// Points per primitive of each side (1 point, 2 segment, 3 triangle).
+    const KA: usize;
+    const KB: usize;
+    const STAGES: u8 = 1;
+    const WIDEN: bool = true;
+    const NEXT: Option<crate::Query> = None;
+    /// Is stage 0's answer a distance with closest points, worth re-certifying tightly before
+    /// anything is recomputed?
+    const RECERT: bool = true;
+    /// Runs stage `ST` on raw (unscaled) input.
+    fn stage<L: Lanes, const ST: u8>(a: &[V3<L>; 3], b: &[V3<L>; 3], prm: &Params<L::S>) -> Out<L>;
+}
+
+/// Input scaled by a power of two: `pts[k] = input[k] / p`; `m` is the largest absolute
+/// coordinate of the input (the magnitude `S`, at least the smallest positive normal).
+pub(crate) struct Scaled<L: Lanes, const K: usize> {
+    pub pts: [V3<L>; K],
+    pub p: L,
+    pub m: L,
+    pub finite: L::M,
+}
+
+/// Scales all points by one power of two so that the largest absolute coordinate is in [1, 2)
+/// (or below 1 for all-subnormal input). Exact except for coordinates that become subnormal,
+/// which are then below 2^-126 (f32) of the largest one.
+#[inline(always)]
+pub(crate) fn prescale<L: Lanes, const K: usize>(pts: [V3<L>; K]) -> Scaled<L, K> {
+    let k = Cx::of(pts[0].x);
+    let big = k.splat(L::S::MAX);
+    let mut m = k.splat(L::S::MIN_POSITIVE);
+    let mut finite = k.yes();
+    for v in &pts {
+        for x in [v.x, v.y, v.z] {
+            let a = x.abs();
+            finite = finite.and(a.le(big));
+            m = m.max(a);
+        }
+    }
+    let p = m.exponent();
+    let inv = k.one().div(p);
+    let mut out = pts;
+    for v in out.iter_mut() {
+        *v = v.scale(inv);
+    }
+    if !finite.all() {
+        // Keep NaN/inf out of the arithmetic (it would defeat the early exits); the lane's
+        // result is replaced by NaN at the end.
+        for v in out.iter_mut() {
+            *v = V3::select(finite, *v, k.v0());
+        }
+    }
+    Scaled { pts: out, p, m, finite }
+}
+
+/// The raw points of a query as `KA + KB` prescaled points (unused slots are ignored).
+#[inline(always)]
+pub(crate) fn scale_pair<L: Lanes, const KA: usize, const KB: usize>(
+    a: &[V3<L>; 3],
+    b: &[V3<L>; 3],
+) -> (Scaled<L, 6>, [V3<L>; 3], [V3<L>; 3]) {
+    // Only the used points enter the magnitude: unused slots repeat a used point.
+    let pts = [
+        a[0],
+        a[(KA > 1) as usize],
+        a[2 * (KA > 2) as usize],
+        b[0],
+        b[(KB > 1) as usize],
+        b[2 * (KB > 2) as usize],
+    ];
+    let sc = prescale(pts);
+    let s = [sc.pts[0], sc.pts[1], sc.pts[2]];
+    let t = [sc.pts[3], sc.pts[4], sc.pts[5]];
+    (sc, s, t)
+}
+
+/// Finishes a stage: certifies `r` (prescaled) against the prescaled primitives
+/// ([`cert::certify`]), decides acceptance, and undoes the scaling: squared distance times p^2, points and interval times p;
+/// NaN for non-finite input lanes (accepted: nothing to escalate). Overflow of the squared
+/// distance gives +inf (documented); the interval saturates to +inf alike.
+#[inline(always)]
+///
+/// `s`, `t` and `r` are either prescaled or, for a stage that works in a local frame, relative
+/// to `origin` (then `s[0]` must be exactly 0: the certificate's allowance for its own local
+/// frame covers the stage's); `origin` is added back to the points.
+pub(crate) fn finish<L: Lanes, const KA: usize, const KB: usize, const TIGHT: bool>(
+    sc: &Scaled<L, 6>,
+    s: &[V3<L>; 3],
+    t: &[V3<L>; 3],
+    origin: Option<V3<L>>,
+    r: Res<L>,
+    prm: &Params<L::S>,
+) -> Out<L> {
+    let c = if TIGHT {
+        cert::certify_tight::<L, KA, KB>(s, t, r.p, r.q)
+    } else {
+        cert::certify::<L, KA, KB>(s, t, r.p, r.q)
+    };
+    conclude(sc, c.lo, c.hi, origin, r, prm)
+}
+
+/// Decides acceptance of an answer `r` with certified interval `[lo, hi]` (prescaled, points
+/// relative to `origin` when given) and undoes the scaling (see [`finish`]).
+#[inline(always)]
+pub(crate) fn conclude<L: Lanes>(
+    sc: &Scaled<L, 6>,
+    lo: L,
+    hi: L,
+    origin: Option<V3<L>>,
+    r: Res<L>,
+    prm: &Params<L::S>,
+) -> Out<L> {
+    let c = cert::Cert { lo, hi };
+    // Accepted when the interval is within the tolerance *and* the algorithm's own distance is
+    // consistent with it (within 8 u S, its own rounding): a wrong answer with a narrow
+    // interval around the right one is not passed off as right.
+    let k = Cx::of(c.lo);
+    let eps = k.u().mul(k.c(8.0)).mul(sc.m.div(sc.p));
+    let lo_e = c.lo.sub(eps).max(k.zero());
+    let hi_e = c.hi.add(eps);
+    let consistent = r.d.ge(lo_e.mul(lo_e)).and(r.d.le(hi_e.mul(hi_e)));
+    let ok = accept(c.lo, c.hi, sc, prm).and(consistent);
+    // The algorithm's own answer (exactly 0 for contact, accurately rounded otherwise; points
+    // on their primitives up to rounding), with the distance kept inside the certified
+    // interval.
+    let d = r.d.max(c.lo.mul(c.lo)).min(c.hi.mul(c.hi));
+    let (p, q) = match origin {
+        Some(o) => (r.p.add(o), r.q.add(o)),
+        None => (r.p, r.q),
+    };
+    unscale(Res { d, p, q }, c.lo, c.hi, ok, sc)
+}
+
+/// Re-certifies an earlier stage's answer (raw units: squared distance `d`, points `p` on the
+/// first primitive and `q` on the second) with the tight certificate: the driver's second pass
+/// over the pairs whose first interval was too wide, before anything is recomputed.
+#[inline(always)]
+pub(crate) fn recertify<L: Lanes, const KA: usize, const KB: usize>(
+    a: &[V3<L>; 3],
+    b: &[V3<L>; 3],
+    d: L,
+    p: V3<L>,
+    q: V3<L>,
+    prm: &Params<L::S>,
+) -> Out<L> {
+    let (sc, s, t) = scale_pair::<L, KA, KB>(a, b);
+    let k = Cx::of(d);
+    let inv = k.one().div(sc.p);
+    let (p, q) = (p.scale(inv), q.scale(inv));
+    // An answer whose square overflowed in the caller's units (documented +inf) is the
+    // witness's own squared distance here.
+    let d = L::select(d.le(k.splat(L::S::MAX)), d.mul(inv).mul(inv), p.sub(q).norm2());
+    finish::<L, KA, KB, true>(&sc, &s, &t, None, Res { d, p, q }, prm)
+}
+
+/// Is the certified width `hi - lo` (prescaled) within the tolerance? `!(width > tol)`, so NaN
+/// (non-finite input) is accepted.
+#[inline(always)]
+pub(crate) fn accept<L: Lanes>(lo: L, hi: L, sc: &Scaled<L, 6>, prm: &Params<L::S>) -> L::M {
+    let k = Cx::of(lo);
+    let inv = k.one().div(sc.p);
+    let tol = k
+        .splat(prm.tol_scaled)
+        .mul(sc.m.mul(inv))
+        .max(k.splat(prm.tol_abs).mul(inv))
+        .max(k.splat(prm.tol_rel).mul(lo));
+    hi.sub(lo).gt(tol).not()
+}
+
+/// Undoes [`prescale`]: see [`finish`].
+#[inline(always)]
+pub(crate) fn unscale<L: Lanes>(r: Res<L>, lo: L, hi: L, ok: L::M, sc: &Scaled<L, 6>) -> Out<L> {
+    let k = Cx::of(r.d);
+    let p = sc.p;
+    // d*p is exact while normal; when it is subnormal (p < 1, tiny d) its rounding error is
+    // below 2^-150 and is then multiplied by p < 1 again, far below the final rounding. So the
+    // result is the correctly rounded d*p^2 except in double-rounding ties.
+    let d = r.d.mul(p).mul(p);
+    // lo*p, hi*p are exact unless subnormal; then one subnormal step keeps them outward.
+    let tiny = k.splat(<L::S as crate::real::sealed::Sealed>::TINY);
+    let lo = lo.mul(p).sub(tiny).max(k.zero());
+    let hi = hi.mul(p).add(tiny);
+    let nan = k.nan();
+    let nan3 = V3::splat(nan);
+    let f = sc.finite;
+    Out {
+        d: L::select(f, d, nan),
+        p: V3::select(f, r.p.scale(p), nan3),
+        q: V3::select(f, r.q.scale(p), nan3),
+        lo: L::select(f, lo, nan),
+        hi: L::select(f, hi, nan),
+        ok: ok.or(f.not()),
+        it: k.zero(),
+    }
+}
+
+/// NaN answers (verdict, interval) for non-finite input lanes, which are accepted: nothing to
+/// escalate. For stages whose output is not a scaled distance (the intersection verdict).
+#[inline(always)]
+pub(crate) fn nan_where_invalid<L: Lanes>(o: Out<L>, sc: &Scaled<L, 6>) -> Out<L> {
+    let nan = Cx::of(o.d).nan();
+    let f = sc.finite;
+    Out {
+        d: L::select(f, o.d, nan),
+        lo: L::select(f, o.lo, nan),
+        hi: L::select(f, o.hi, nan),
+        ok: o.ok.or(f.not()),
+        ..o
+    }
+}
+
+/// Keeps the better (smaller squared distance) of two results per lane.
+#[inline(always)]
+pub(crate) fn keep_min<L: Lanes>(best: &mut Res<L>, cand: Res<L>) {
+    let better = cand.d.lt(best.d);
+    *best = L::select_res(better, cand, *best);
+}
+
+#[inline(always)]
+pub(crate) fn swap<L: Lanes>(r: Res<L>) -> Res<L> {
+    Res { d: r.d, p: r.q, q: r.p }
+}
+
+#[inline(always)]
+pub(crate) fn edges<L: Lanes>(t: &[V3<L>; 3]) -> [V3<L>; 3] {
+    [t[1].sub(t[0]), t[2].sub(t[1]), t[0].sub(t[2])]
+}
+
+/// The two edges of a triangle that meet opposite its longest edge (`e` = [`edges`]), in
+/// counter-clockwise order: the best-conditioned pair for its normal. At a needle's tip both
+/// edges are long and nearly parallel, and their own rounding swamps the cross product (fuzzing
+/// found a point 15 u S beside a needle of tip angle 1e-16 reported touching it).
+#[inline(always)]
+pub(crate) fn normal_pair<L: Lanes>(e: &[V3<L>; 3]) -> (V3<L>, V3<L>) {
+    let (l0, l1, l2) = (e[0].norm2(), e[1].norm2(), e[2].norm2());
+    let long0 = l0.ge(l1).and(l0.ge(l2));
+    let long1 = l1.ge(l2).andnot(long0);
+    // e0 x e1 = e1 x e2 = e2 x e0 in exact arithmetic.
+    let u = V3::select(long0, e[1], V3::select(long1, e[2], e[0]));
+    let v = V3::select(long0, e[2], V3::select(long1, e[0], e[1]));
+    (u, v)
+}
+
+/// The triangle's normal (unnormalised, orientation of `e0 x e1`), accurately rounded from the
+/// best-conditioned edge pair.
+#[inline(always)]
+pub(crate) fn normal<L: Lanes>(e: &[V3<L>; 3]) -> V3<L> {
+    let (u, v) = normal_pair(e);
+    u.cross_accurate(v)
+}
+
+/// Is the triangle with edges `e` ([`edges`]) degenerate (its normal is below the rounding
+/// noise of the cross product of its best-conditioned edge pair)? Relative test.
+#[inline(always)]
+pub(crate) fn degenerate<L: Lanes>(e: &[V3<L>; 3]) -> L::M {
+    // Unsquared (max-)norms: squares of a needle's width underflow.
+    let (a, b) = normal_pair(e);
+    let n = a.cross(b);
+    let k = Cx::of(a.x);
+    let tol = k.u().mul(k.c(16.0));
+    n.norm_inf().le(a.norm_inf().mul(b.norm_inf()).mul(tol))
+}
+
+/// Lower bound on the distance of two triangles from their bounding boxes (squared).
+#[inline(always)]
+pub(crate) fn aabb_gap2<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> L {
+    gap2_axis([s[0].x, s[1].x, s[2].x], [t[0].x, t[1].x, t[2].x])
+        .add(gap2_axis([s[0].y, s[1].y, s[2].y], [t[0].y, t[1].y, t[2].y]))
+        .add(gap2_axis([s[0].z, s[1].z, s[2].z], [t[0].z, t[1].z, t[2].z]))
+}
+
+/// Squared gap between the intervals spanned by `a` and `b` (0 when they overlap).
+#[inline(always)]
+fn gap2_axis<L: Lanes>(a: [L; 3], b: [L; 3]) -> L {
+    let lo_s = a[0].min(a[1]).min(a[2]);
+    let hi_s = a[0].max(a[1]).max(a[2]);
+    let lo_t = b[0].min(b[1]).min(b[2]);
+    let hi_t = b[0].max(b[1]).max(b[2]);
+    let gap = lo_t.sub(hi_s).max(lo_s.sub(hi_t)).max(Cx::of(lo_s).zero());
+    gap.mul(gap)
+}
+
+/// Helpers for selecting whole results and masks.
+pub(crate) trait SelectExt: Lanes {
+    #[inline(always)]
+    fn select_res(m: Self::M, a: Res<Self>, b: Res<Self>) -> Res<Self> {
+        Res { d: Self::select(m, a.d, b.d), p: V3::select(m, a.p, b.p), q: V3::select(m, a.q, b.q) }
+    }
+    #[inline(always)]
+    fn select_mask(m: Self::M, a: Self::M, b: Self::M) -> Self::M {
+        m.and(a).or(b.andnot(m))
+    }
+}
+impl<L: Lanes> SelectExt for L {}

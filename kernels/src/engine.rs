@@ -1,0 +1,692 @@
+//! The engine: runs batch queries on one instruction-set variant, with a tolerance, optional
+//! threads, and the outputs the caller asks for.
+
+use std::sync::OnceLock;
+
+use crate::algo::{Params, PenaltyParams};
+use crate::driver::{Job, Sink, Src};
+use crate::pose::{points, AsPoint};
+use crate::{Batch, ClosestPoints, Error, Intersection, Interval, Isa, PathCounts, Point, Query, Real};
+
+/// One side of a batch query: SoA columns (fastest for SIMD), a plain slice (AoS: the paper's
+/// "non-SIMD layout"), or a single primitive broadcast against every primitive of the other side.
+#[derive(Clone, Copy, Debug)]
+pub enum Prims<'a, T, const K: usize> {
+    /// SoA columns.
+    Soa(&'a Batch<T, K>),
+    /// Plain array of primitives.
+    Aos(&'a [[Point<T>; K]]),
+    /// One primitive against many.
+    One([Point<T>; K]),
+}
+
+impl<'a, T, const K: usize> From<&'a Batch<T, K>> for Prims<'a, T, K> {
+    fn from(b: &'a Batch<T, K>) -> Self {
+        Prims::Soa(b)
+    }
+}
+impl<'a, T, const K: usize> From<&'a [[Point<T>; K]]> for Prims<'a, T, K> {
+    fn from(b: &'a [[Point<T>; K]]) -> Self {
+        Prims::Aos(b)
+    }
+}
+impl<'a, T, const K: usize> From<&'a Vec<[Point<T>; K]>> for Prims<'a, T, K> {
+    fn from(b: &'a Vec<[Point<T>; K]>) -> Self {
+        Prims::Aos(b)
+    }
+}
+impl<'a, T: Real, P: AsPoint<T>, const K: usize> From<&[P; K]> for Prims<'a, T, K> {
+    fn from(b: &[P; K]) -> Self {
+        Prims::One(points(b))
+    }
+}
+
+impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
+    fn len(&self) -> Option<usize> {
+        match self {
+            Prims::Soa(b) => Some(b.len()),
+            Prims::Aos(s) => Some(s.len()),
+            Prims::One(_) => None,
+        }
+    }
+    fn src<'s>(&'s self) -> Src<'s, T>
+    where
+        'a: 's,
+    {
+        match self {
+            Prims::Soa(b) => b.src(),
+            Prims::Aos(s) => Src::Aos { flat: s.as_flattened().as_flattened(), k: K },
+            Prims::One(p) => Src::One { flat: p.as_flattened(), k: K },
+        }
+    }
+}
+
+/// How good an answer must be before a batch stops working on it: the speed-for-accuracy
+/// trade in one parameter.
+///
+/// Every query computes a certified interval `[lo, hi]` around the exact distance of each pair
+/// ([`Interval`]). A pair is done when `hi - lo <= max(scaled * u * S, absolute, relative *
+/// lo)` (`u` the unit roundoff of the input's precision, `S` the pair's largest absolute
+/// coordinate). Otherwise it goes on: from the fast stage to the accurate stage (gathered into
+/// full vectors), then, for f32 input, to the same algorithm in f64 on the exactly widened
+/// input, then, with the `exact` feature, to the exact rational oracle. What each setting
+/// guarantees, for every pair the batch reports as certified ([`PathCounts::uncertified`]
+/// counts the others):
+///
+/// * the returned distance is within the tolerance of the exact one (squared: `sqdist` is the
+///   square of a distance in `[lo, hi]`, rounded once);
+/// * an intersection verdict "disjoint" is always proven (`lo > 0`); "intersecting" means the
+///   distance is at most the tolerance (exactly 0 with the `exact` feature and
+///   [`Tolerance::EXACT`]);
+/// * [`Tolerance::EXACT`] (all zero): every pair that is not exactly representable goes to the
+///   last stage available: the exact oracle with the feature, else it stays uncertified with
+///   its tightest interval (f64 for f32 input).
+///
+/// The penalty method is never escalated (the caller chose an approximation): its interval
+/// says how far off it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerance {
+    /// In units of `u * S`.
+    pub scaled: f64,
+    /// In the caller's units.
+    pub absolute: f64,
+    /// Relative to the distance (times the certified lower bound).
+    pub relative: f64,
+}
+
+impl Tolerance {
+    /// The default: `32 u S`. Measured: the fast stage certifies nearly every generic pair at
+    /// this width (the report publishes the fractions per family), while the distance error it
+    /// admits stays far below it (ACCURACY.md).
+    pub const DEFAULT: Tolerance = Tolerance { scaled: 64.0, absolute: 0.0, relative: 0.0 };
+    /// Nothing but exact answers are accepted (see the type docs).
+    pub const EXACT: Tolerance = Tolerance { scaled: 0.0, absolute: 0.0, relative: 0.0 };
+
+    /// `k * u * S`.
+    pub fn scaled(k: f64) -> Tolerance {
+        Tolerance { scaled: k, absolute: 0.0, relative: 0.0 }
+    }
+    /// An absolute distance.
+    pub fn absolute(x: f64) -> Tolerance {
+        Tolerance { scaled: 0.0, absolute: x, relative: 0.0 }
+    }
+    /// Relative to the distance.
+    pub fn relative(r: f64) -> Tolerance {
+        Tolerance { scaled: 0.0, absolute: 0.0, relative: r }
+    }
+
+    fn check(&self) -> Result<(), Error> {
+        let ok = |x: f64| x >= 0.0;
+        if ok(self.scaled) && ok(self.absolute) && ok(self.relative) {
+            Ok(())
+        } else {
+            Err(Error::InvalidTolerance)
+        }
+    }
+}
+
+impl Default for Tolerance {
+    fn default() -> Self {
+        Tolerance::DEFAULT
+    }
+}
+
+/// Options of the penalty method ([`Engine::penalty_triangle_triangle`]): the
+/// speed-for-accuracy knob of that approximation. `rho` and `reg` are relative to the pair's
+/// own curvature and `tol` to its magnitude, so the same options behave the same at every scale.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PenaltyOptions<T> {
+    /// Penalty weight (relative). Larger: points closer to their triangles, worse conditioning.
+    pub rho: T,
+    /// Regularisation added to the Hessian's diagonal (relative); the paper uses 1/rho^2.
+    pub reg: T,
+    /// Stop when the step, measured on the geometry, is below `tol * S`.
+    pub tol: T,
+    /// Iteration limit.
+    pub max_iter: u32,
+    /// Start point (a, b, g, d): barycentric parameters of both triangles.
+    pub start: [T; 4],
+}
+
+impl<T: Real> Default for PenaltyOptions<T> {
+    /// rho = 1/(4 sqrt(u)) (about 1e3 for f32, 2.4e7 for f64: larger rho makes the Newton
+    /// system too ill-conditioned for the precision), reg = 1/rho^2 as in the paper,
+    /// tol = 64 u, 32 iterations, start (1/3, 1/3, 1/3, 1/3).
+    fn default() -> Self {
+        let third = T::ONE / T::from_f64(3.0);
+        let rho = 0.25 / T::UNIT_ROUNDOFF.to_f64().sqrt();
+        PenaltyOptions {
+            rho: T::from_f64(rho),
+            reg: T::from_f64(1.0 / (rho * rho)),
+            tol: T::UNIT_ROUNDOFF * T::from_f64(64.0),
+            max_iter: 32,
+            start: [third; 4],
+        }
+    }
+}
+
+impl<T: Real> PenaltyOptions<T> {
+    /// Are the options usable?
+    pub fn is_valid(&self) -> bool {
+        let pos = |x: T| x.is_finite() && x > T::ZERO;
+        pos(self.rho)
+            && pos(self.reg)
+            && pos(self.tol)
+            && self.max_iter >= 1
+            && self.start.iter().all(|x| x.is_finite())
+    }
+
+    pub(crate) fn params(&self) -> PenaltyParams<T> {
+        PenaltyParams {
+            rho: self.rho,
+            reg: self.reg,
+            tol: self.tol,
+            max_iter: self.max_iter,
+            start: self.start,
+        }
+    }
+}
+
+/// The outputs of a batch query, any subset (each slice has one element per pair): squared
+/// distances, closest points (as [`ClosestPoints`] or as two parallel slices), certified
+/// intervals, intersection verdicts, penalty iterations.
+///
+/// # Example
+/// ```
+/// use tridist::{Engine, Interval, Outputs, Query};
+/// let a = [[[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]; 3];
+/// let b = [[[0.0f64, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]]; 3];
+/// let (mut d, mut iv) = ([0.0; 3], [Interval::default(); 3]);
+/// let counts = Engine::auto()
+///     .run(Query::TriTri, &a[..], &b[..], Outputs::new().sqdist(&mut d).intervals(&mut iv))
+///     .unwrap();
+/// assert_eq!(d, [4.0; 3]);
+/// assert!(iv.iter().all(|i| i.contains(2.0)));
+/// assert_eq!((counts.pairs, counts.uncertified), (3, 0));
+/// ```
+#[derive(Default)]
+pub struct Outputs<'a, T> {
+    sink: Sink<'a, T>,
+}
+
+impl<'a, T: Real> Outputs<'a, T> {
+    /// No outputs yet.
+    pub fn new() -> Self {
+        Outputs { sink: Sink::default() }
+    }
+    /// Squared distances (within-margin: `+inf` beyond the margin; intersection: not written).
+    pub fn sqdist(mut self, out: &'a mut [T]) -> Self {
+        self.sink.d = Some(out);
+        self
+    }
+    /// Squared distances and closest points.
+    pub fn closest_points(mut self, out: &'a mut [ClosestPoints<T>]) -> Self {
+        self.sink.cp = Some(out);
+        self
+    }
+    /// Closest points as two parallel slices (`p` on the first primitive).
+    pub fn points(mut self, p: &'a mut [Point<T>], q: &'a mut [Point<T>]) -> Self {
+        self.sink.p = Some(p);
+        self.sink.q = Some(q);
+        self
+    }
+    /// Certified intervals of the distance.
+    pub fn intervals(mut self, out: &'a mut [Interval<T>]) -> Self {
+        self.sink.iv = Some(out);
+        self
+    }
+    /// Intersection verdicts (any triangle query: contact within the tolerance).
+    pub fn verdicts(mut self, out: &'a mut [Intersection]) -> Self {
+        self.sink.verdict = Some(out);
+        self
+    }
+    /// Iterations used (penalty method; 0 for the other queries).
+    pub fn iterations(mut self, out: &'a mut [u32]) -> Self {
+        self.sink.iters = Some(out);
+        self
+    }
+}
+
+/// Runs batch queries on one instruction-set variant.
+///
+/// Built only for a variant this CPU supports (and every batch checks detection again), so
+/// every method is safe to call.
+///
+/// # Example
+/// ```
+/// use tridist::{Engine, TriangleBatch};
+/// let a = TriangleBatch::from_slice(&[[[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]; 10]);
+/// let b = TriangleBatch::from_slice(&[[[0.0f32, 0.0, 3.0], [1.0, 0.0, 3.0], [0.0, 1.0, 3.0]]; 10]);
+/// let mut out = vec![0.0f32; 10];
+/// let counts = Engine::auto().sqdist_triangle_triangle(&a, &b, &mut out).unwrap();
+/// assert!(out.iter().all(|&d| d == 9.0));
+/// assert_eq!(counts.pairs, 10);
+/// // lengths must agree: an error, not a panic
+/// assert!(Engine::auto().sqdist_triangle_triangle(&a, &b, &mut out[..3]).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Engine {
+    isa: Isa,
+    threads: usize,
+    tol: Tolerance,
+    exact: bool,
+    margin: f64,
+    /// `None`: the defaults of the batch's precision.
+    penalty: Option<PenaltyOptions<f64>>,
+}
+
+/// The environment variable that pins [`Engine::auto`] to one variant (`scalar`, `sse41`,
+/// `avx`, `avx2fma`), for tests and benchmarks. Read once per process.
+pub const ISA_ENV: &str = "TRIDIST_ISA";
+
+/// Batches below this many pairs stay on the calling thread.
+const MIN_PARALLEL: usize = 2048;
+
+impl Engine {
+    fn with_isa(isa: Isa) -> Engine {
+        Engine {
+            isa,
+            threads: 1,
+            tol: Tolerance::DEFAULT,
+            exact: cfg!(feature = "exact"),
+            margin: 0.0,
+            penalty: None,
+        }
+    }
+
+    /// An engine for `isa`, or [`Error::Unavailable`] when this CPU lacks it.
+    pub fn new(isa: Isa) -> Result<Engine, Error> {
+        if isa.is_available() {
+            Ok(Engine::with_isa(isa))
+        } else {
+            Err(Error::Unavailable(isa))
+        }
+    }
+
+    /// The scalar engine (always available).
+    pub fn scalar() -> Engine {
+        Engine::with_isa(Isa::Scalar)
+    }
+
+    /// The best available variant, or the one named by `TRIDIST_ISA` when that is set.
+    ///
+    /// # Errors
+    /// When `TRIDIST_ISA` names an unknown or unavailable variant.
+    pub fn from_env() -> Result<Engine, Error> {
+        match std::env::var(ISA_ENV) {
+            Ok(s) if !s.is_empty() => {
+                let isa = Isa::parse(&s).ok_or(Error::UnknownIsa(s))?;
+                Engine::new(isa)
+            }
+            _ => Ok(Engine::with_isa(Isa::best())),
+        }
+    }
+
+    /// [`Engine::from_env`], falling back to the best available variant when `TRIDIST_ISA` is
+    /// unusable. The environment is read and the CPU detected once per process.
+    pub fn auto() -> Engine {
+        static AUTO: OnceLock<Engine> = OnceLock::new();
+        *AUTO.get_or_init(|| Engine::from_env().unwrap_or(Engine::with_isa(Isa::best())))
+    }
+
+    /// The variant this engine runs.
+    pub fn isa(&self) -> Isa {
+        self.isa
+    }
+
+    /// The same engine splitting each batch over `n` threads (`0`: every available core), in
+    /// pieces that idle threads take from busy ones (a persistent rayon pool with the default
+    /// `rayon` feature, std scoped threads without it). Batches below 2048 pairs stay on the
+    /// calling thread. Results are identical to the single-threaded ones.
+    ///
+    /// # Example
+    /// ```
+    /// use tridist::Engine;
+    /// let a = vec![[[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]; 5000];
+    /// let b = vec![[[0.0f64, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]; 5000];
+    /// let mut out = vec![0.0; 5000];
+    /// Engine::auto().threads(2).sqdist_triangle_triangle(&a, &b, &mut out).unwrap();
+    /// assert!(out.iter().all(|&d| d == 1.0));
+    /// ```
+    pub fn threads(self, n: usize) -> Engine {
+        let n = if n == 0 { std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1) } else { n };
+        Engine { threads: n, ..self }
+    }
+
+    /// The same engine with another tolerance ([`Tolerance`]).
+    ///
+    /// # Errors
+    /// [`Error::InvalidTolerance`] for negative or NaN entries.
+    pub fn tolerance(self, tol: Tolerance) -> Result<Engine, Error> {
+        tol.check()?;
+        Ok(Engine { tol, ..self })
+    }
+
+    /// The tolerance in use.
+    pub fn current_tolerance(&self) -> Tolerance {
+        self.tol
+    }
+
+    /// The same engine with (`true`, the default when the crate is built with the `exact`
+    /// feature) or without the exact oracle as the last escalation step. Without the feature
+    /// this is always off.
+    pub fn exact(self, on: bool) -> Engine {
+        Engine { exact: on && cfg!(feature = "exact"), ..self }
+    }
+
+    /// The same engine with the margin of [`Query::Within`] for [`Engine::run`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidMargin`] for a negative or non-finite margin.
+    pub fn margin(self, margin: f64) -> Result<Engine, Error> {
+        if !(margin.is_finite() && margin >= 0.0) {
+            return Err(Error::InvalidMargin);
+        }
+        Ok(Engine { margin, ..self })
+    }
+
+    /// The same engine with the options of [`Query::Penalty`] for [`Engine::run`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidOptions`] when [`PenaltyOptions::is_valid`] fails.
+    pub fn penalty<T: Real>(self, o: &PenaltyOptions<T>) -> Result<Engine, Error> {
+        if !o.is_valid() {
+            return Err(Error::InvalidOptions);
+        }
+        let c = |x: T| x.to_f64();
+        let penalty = PenaltyOptions {
+            rho: c(o.rho),
+            reg: c(o.reg),
+            tol: c(o.tol),
+            max_iter: o.max_iter,
+            start: o.start.map(c),
+        };
+        Ok(Engine { penalty: Some(penalty), ..self })
+    }
+
+    pub(crate) fn params<T: Real>(&self) -> Params<T> {
+        let u = T::UNIT_ROUNDOFF.to_f64();
+        let c = T::from_f64;
+        let penalty = match &self.penalty {
+            Some(p) => PenaltyOptions {
+                rho: c(p.rho),
+                reg: c(p.reg),
+                tol: c(p.tol),
+                max_iter: p.max_iter,
+                start: p.start.map(c),
+            },
+            None => PenaltyOptions::<T>::default(),
+        };
+        Params {
+            margin: c(self.margin),
+            tol_scaled: c(self.tol.scaled * u),
+            tol_abs: c(self.tol.absolute),
+            tol_rel: c(self.tol.relative),
+            penalty: penalty.params(),
+        }
+    }
+
+    /// Whether the exact oracle is the last escalation step.
+    pub(crate) fn uses_exact(&self) -> bool {
+        self.exact
+    }
+
+    /// Runs `query` on pairs `a[i]`, `b[i]` (a [`Prims::One`] side pairs with every primitive
+    /// of the other), writing the requested `out`puts. The typed methods below are this with
+    /// fixed outputs; the margin and penalty options come from [`Engine::margin`] and
+    /// [`Engine::penalty`].
+    ///
+    /// # Errors
+    /// [`Error::Arity`] when `KA`, `KB` are not the query's primitive sizes
+    /// ([`Query::arity`]), [`Error::LengthMismatch`] when `a`, `b` and the outputs disagree in
+    /// length. An empty batch is fine and writes nothing.
+    ///
+    /// # Returns
+    /// Which path the pairs took ([`PathCounts`]).
+    pub fn run<'a, T: Real, const KA: usize, const KB: usize>(
+        &self,
+        query: Query,
+        a: impl Into<Prims<'a, T, KA>>,
+        b: impl Into<Prims<'a, T, KB>>,
+        out: Outputs<'_, T>,
+    ) -> Result<PathCounts, Error> {
+        if query.arity() != (KA, KB) {
+            return Err(Error::Arity { query, expected: query.arity(), found: (KA, KB) });
+        }
+        let (a, b) = (a.into(), b.into());
+        let n = match (a.len(), b.len()) {
+            (Some(x), Some(y)) if x != y => {
+                return Err(Error::LengthMismatch { what: "b", expected: x, found: y })
+            }
+            (Some(x), _) | (None, Some(x)) => x,
+            (None, None) => 1,
+        };
+        let s = &out.sink;
+        let lens = [
+            ("sqdist", s.d.as_ref().map(|x| x.len())),
+            ("verdicts", s.verdict.as_ref().map(|x| x.len())),
+            ("closest_points", s.cp.as_ref().map(|x| x.len())),
+            ("p", s.p.as_ref().map(|x| x.len())),
+            ("q", s.q.as_ref().map(|x| x.len())),
+            ("intervals", s.iv.as_ref().map(|x| x.len())),
+            ("iterations", s.iters.as_ref().map(|x| x.len())),
+        ];
+        for (what, len) in lens {
+            if let Some(len) = len {
+                if len != n {
+                    return Err(Error::LengthMismatch { what, expected: n, found: len });
+                }
+            }
+        }
+        let job = Job {
+            query,
+            a: a.src(),
+            b: b.src(),
+            n,
+            prm: self.params::<T>(),
+            sink: out.sink,
+            counts: PathCounts::default(),
+            widen: true,
+            exact: self.exact,
+        };
+        Ok(self.exec(job))
+    }
+
+    /// Runs a validated job, split across threads when asked.
+    fn exec<T: Real>(&self, mut job: Job<'_, T>) -> PathCounts {
+        let n = job.n;
+        if self.threads <= 1 || n < MIN_PARALLEL {
+            T::run_job(self.isa, &mut job);
+            return job.counts;
+        }
+        // Pieces of whole chunks, several per thread, so that a thread that finishes early
+        // takes work from the others.
+        let piece =
+            (n.div_ceil(4 * self.threads)).div_ceil(crate::driver::CHUNK).max(1) * crate::driver::CHUNK;
+        let mut jobs = Vec::with_capacity(n.div_ceil(piece));
+        let (a, b, prm, query, widen, exact) = (job.a, job.b, job.prm, job.query, job.widen, job.exact);
+        let mut sink = job.sink;
+        let mut start = 0;
+        while start < n {
+            let len = piece.min(n - start);
+            let (now, rest) = sink.split_at(len);
+            sink = rest;
+            jobs.push(Job {
+                query,
+                a: a.from(start),
+                b: b.from(start),
+                n: len,
+                prm,
+                sink: now,
+                counts: PathCounts::default(),
+                widen,
+                exact,
+            });
+            start += len;
+        }
+        run_pieces(self.isa, self.threads, &mut jobs);
+        let mut total = PathCounts::default();
+        for j in &jobs {
+            total.add(&j.counts);
+        }
+        total
+    }
+}
+
+#[cfg(feature = "rayon")]
+fn run_pieces<T: Real>(isa: Isa, threads: usize, jobs: &mut [Job<'_, T>]) {
+    use rayon::prelude::*;
+    pool(threads).install(|| jobs.par_iter_mut().for_each(|j| T::run_job(isa, j)));
+}
+
+/// A persistent pool per thread count, made on first use.
+#[cfg(feature = "rayon")]
+fn pool(threads: usize) -> std::sync::Arc<rayon::ThreadPool> {
+    use std::sync::{Arc, Mutex};
+    static POOLS: OnceLock<Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>>> = OnceLock::new();
+    let mut pools = POOLS.get_or_init(|| Mutex::new(Vec::new())).lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, p)) = pools.iter().find(|(n, _)| *n == threads) {
+        return p.clone();
+    }
+    let p = Arc::new(
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("tridist-{i}"))
+            .build()
+            .unwrap_or_else(|e| panic!("cannot start {threads} threads: {e}")),
+    );
+    pools.push((threads, p.clone()));
+    p
+}
+
+#[cfg(not(feature = "rayon"))]
+fn run_pieces<T: Real>(isa: Isa, threads: usize, jobs: &mut [Job<'_, T>]) {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
+    let next = AtomicUsize::new(0);
+    let slots: Vec<Mutex<&mut Job<'_, T>>> = jobs.iter_mut().map(Mutex::new).collect();
+    std::thread::scope(|s| {
+        for _ in 0..threads {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                let Some(slot) = slots.get(i) else { break };
+                let mut job = slot.lock().unwrap_or_else(|e| e.into_inner());
+                T::run_job(isa, &mut job);
+            });
+        }
+    });
+}
+
+/// The typed batch methods: each is [`Engine::run`] with fixed outputs.
+macro_rules! distance_methods {
+    ($($q:ident, $ka:literal, $kb:literal, $sq:ident, $cp:ident, $what:literal;)*) => {
+        impl Engine {
+            $(
+                #[doc = concat!("Squared ", $what, " distances, `out[i]` for pair `i` ([`Query::", stringify!($q), "`]).")]
+                ///
+                /// # Behaviour
+                /// As the single query of the same name; touching and intersecting primitives give
+                /// exactly `0`, degenerate ones are the points or segments they are, NaN/inf input
+                /// gives NaN for that pair only, an overflowing square gives `+inf`.
+                ///
+                /// # Errors
+                /// [`Error::LengthMismatch`] when `a`, `b` and `out` disagree in length (a
+                /// [`Prims::One`] side matches any length). An empty batch is fine.
+                ///
+                /// # Precision
+                /// Within the engine's [`Tolerance`] for every certified pair (the returned
+                /// [`PathCounts`] count the others); measured error per input family, variant and
+                /// precision in `reports/ACCURACY.md`.
+                ///
+                /// # Performance
+                /// Queries per second per variant, layout and precision: `reports/THROUGHPUT.md`.
+                pub fn $sq<'a, T: Real>(
+                    &self,
+                    a: impl Into<Prims<'a, T, $ka>>,
+                    b: impl Into<Prims<'a, T, $kb>>,
+                    out: &mut [T],
+                ) -> Result<PathCounts, Error> {
+                    self.run(Query::$q, a, b, Outputs::new().sqdist(out))
+                }
+
+                #[doc = concat!("Squared ", $what, " distances and closest points ([`Query::", stringify!($q), "`]).")]
+                ///
+                /// # Errors
+                /// As the squared-distance method, for `out`.
+                pub fn $cp<'a, T: Real>(
+                    &self,
+                    a: impl Into<Prims<'a, T, $ka>>,
+                    b: impl Into<Prims<'a, T, $kb>>,
+                    out: &mut [ClosestPoints<T>],
+                ) -> Result<PathCounts, Error> {
+                    self.run(Query::$q, a, b, Outputs::new().closest_points(out))
+                }
+            )*
+        }
+    };
+}
+distance_methods! {
+    SegSeg, 2, 2, sqdist_segment_segment, closest_points_segment_segment, "segment-segment";
+    PointTri, 1, 3, sqdist_point_triangle, closest_point_point_triangle, "point-triangle";
+    TriTri, 3, 3, sqdist_triangle_triangle, closest_points_triangle_triangle, "triangle-triangle";
+    TriTriBrute, 3, 3, sqdist_triangle_triangle_brute, closest_points_triangle_triangle_brute, "brute-force triangle-triangle";
+}
+
+impl Engine {
+    /// Intersection verdicts ([`Query::Intersect`]): certified separating axes first, a
+    /// piercing witness for overlaps, the full distance pipeline for the rest.
+    ///
+    /// # Errors
+    /// As [`Engine::sqdist_triangle_triangle`].
+    pub fn intersect_triangle_triangle<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 3>>,
+        b: impl Into<Prims<'a, T, 3>>,
+        out: &mut [Intersection],
+    ) -> Result<PathCounts, Error> {
+        self.run(Query::Intersect, a, b, Outputs::new().verdicts(out))
+    }
+
+    /// Within-margin ([`Query::Within`]): `out[i]` is the squared distance when the distance is
+    /// at most `margin`, else `+inf`. Pairs whose bounding boxes are certainly farther apart than
+    /// the margin skip the distance computation; the others get exactly the answer of
+    /// [`Engine::sqdist_triangle_triangle`], thresholded.
+    ///
+    /// # Errors
+    /// [`Error::InvalidMargin`] for a negative or non-finite margin; lengths as
+    /// [`Engine::sqdist_triangle_triangle`].
+    pub fn within_margin_triangle_triangle<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 3>>,
+        b: impl Into<Prims<'a, T, 3>>,
+        margin: T,
+        out: &mut [T],
+    ) -> Result<PathCounts, Error> {
+        self.margin(margin.to_f64())?.run(Query::Within, a, b, Outputs::new().sqdist(out))
+    }
+
+    /// Triangle-triangle distance by Krestenitis & Koziara's penalty method ([`Query::Penalty`]):
+    /// a regularised Newton iteration on the barycentric parameters of both triangles, each lane
+    /// iterating independently. Writes the answers (points on their triangles) and the
+    /// iterations used.
+    ///
+    /// # Behaviour
+    /// An approximation whose accuracy the caller trades for speed with [`PenaltyOptions`]; the
+    /// points are brought back onto their triangles, so the distance is an upper bound, and its
+    /// certified interval ([`Outputs::intervals`] through [`Engine::run`]) says how far off it
+    /// may be. Never escalated. NaN input gives NaN.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOptions`]; lengths as [`Engine::closest_points_triangle_triangle`], also
+    /// for `iters`.
+    pub fn penalty_triangle_triangle<'a, T: Real>(
+        &self,
+        a: impl Into<Prims<'a, T, 3>>,
+        b: impl Into<Prims<'a, T, 3>>,
+        options: &PenaltyOptions<T>,
+        out: &mut [ClosestPoints<T>],
+        iters: &mut [u32],
+    ) -> Result<PathCounts, Error> {
+        self.penalty(options)?.run(Query::Penalty, a, b, Outputs::new().closest_points(out).iterations(iters))
+    }
+}

@@ -1,0 +1,80 @@
+//! Misuse of the API: every batch and single query reports it as an [`Error`], never a panic.
+
+use crate::{Isa, Query};
+
+/// Misuse of the batch API (or of a single query's options). Never a panic.
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Error {
+    /// Two inputs (or an input and an output) that must have the same length do not.
+    LengthMismatch {
+        /// Which argument.
+        what: &'static str,
+        /// The length it must have.
+        expected: usize,
+        /// The length it has.
+        found: usize,
+    },
+    /// The primitives passed do not have the points the query takes (for example segments
+    /// given to a triangle query through [`crate::Engine::run`]).
+    Arity {
+        /// The query.
+        query: Query,
+        /// Points per primitive it takes on each side.
+        expected: (usize, usize),
+        /// Points per primitive given.
+        found: (usize, usize),
+    },
+    /// The variant is not supported by this CPU (or this target).
+    Unavailable(Isa),
+    /// A variant name that is not one of `scalar`, `sse41`, `avx`, `avx2fma`.
+    UnknownIsa(String),
+    /// The margin of a within-margin query is negative or not finite.
+    InvalidMargin,
+    /// Penalty-method options out of range (see [`crate::PenaltyOptions`]).
+    InvalidOptions,
+    /// A tolerance that is negative or NaN (see [`crate::Tolerance`]).
+    InvalidTolerance,
+    /// A pose that is not finite (see [`crate::Pose`]).
+    InvalidPose,
+    /// A mesh index names no vertex.
+    IndexOutOfRange {
+        /// Triangle number.
+        triangle: usize,
+        /// The index.
+        index: usize,
+        /// How many vertices there are.
+        vertices: usize,
+    },
+}
+
+impl core::fmt::Display for Error {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Error::LengthMismatch { what, expected, found } => {
+                write!(f, "length mismatch: {what} has {found} elements, expected {expected}")
+            }
+            Error::Arity { query, expected, found } => write!(
+                f,
+                "query {query} takes primitives of {} and {} points, got {} and {}",
+                expected.0, expected.1, found.0, found.1
+            ),
+            Error::Unavailable(i) => write!(f, "variant {i} is not available on this CPU"),
+            Error::UnknownIsa(s) => {
+                write!(f, "unknown variant {s:?} (expected scalar, sse41, avx or avx2fma)")
+            }
+            Error::InvalidMargin => write!(f, "margin must be finite and non-negative"),
+            Error::InvalidOptions => write!(
+                f,
+                "penalty options: rho, reg and tol must be finite and positive, max_iter at least 1, start finite"
+            ),
+            Error::InvalidTolerance => write!(f, "tolerances must be non-negative (inf allowed), not NaN"),
+            Error::InvalidPose => write!(f, "pose rotation and translation must be finite"),
+            Error::IndexOutOfRange { triangle, index, vertices } => {
+                write!(f, "triangle {triangle} uses vertex index {index}, but there are {vertices} vertices")
+            }
+        }
+    }
+}
+
+impl std::error::Error for Error {}

@@ -1,0 +1,173 @@
+//! Instruction-set variants, runtime detection (once, cached), the capability tokens that
+//! prove a variant is available, and the dispatch from a batch job to its entry point.
+
+use std::sync::OnceLock;
+
+use crate::driver::Job;
+use crate::query::{for_each_query, Query};
+
+/// An instruction-set variant. Every variant runs the same algorithms (written once over a lane
+/// trait); they differ in lane count and in whether `a*b+c` is fused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Isa {
+    /// One lane, plain `f32`/`f64` arithmetic, never fused. Runs everywhere.
+    Scalar,
+    /// SSE4.1: f32x4, f64x2.
+    Sse41,
+    /// AVX without FMA: f32x8, f64x4.
+    Avx,
+    /// AVX2 + FMA: f32x8, f64x4, fused multiply-add in every dot product.
+    Avx2Fma,
+}
+
+impl Isa {
+    /// Every variant, slowest first.
+    pub const ALL: [Isa; 4] = [Isa::Scalar, Isa::Sse41, Isa::Avx, Isa::Avx2Fma];
+
+    /// Short name used by the CLI, the reports and `TRIDIST_ISA`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Isa::Scalar => "scalar",
+            Isa::Sse41 => "sse41",
+            Isa::Avx => "avx",
+            Isa::Avx2Fma => "avx2fma",
+        }
+    }
+
+    /// Parses [`Isa::name`].
+    pub fn parse(s: &str) -> Option<Isa> {
+        Isa::ALL.into_iter().find(|i| i.name() == s)
+    }
+
+    /// Lanes per vector for precision `T` (1 for scalar).
+    pub fn lanes<T: crate::Real>(self) -> usize {
+        let wide = match self {
+            Isa::Scalar => return 1,
+            Isa::Sse41 => 16,
+            Isa::Avx | Isa::Avx2Fma => 32,
+        };
+        wide / core::mem::size_of::<T>()
+    }
+
+    /// Does this CPU support the variant? (Runtime detection, cached.)
+    pub fn is_available(self) -> bool {
+        detected()[self as usize]
+    }
+
+    /// The fastest available variant.
+    pub fn best() -> Isa {
+        *Isa::ALL.iter().rev().find(|i| i.is_available()).unwrap_or(&Isa::Scalar)
+    }
+}
+
+impl core::fmt::Display for Isa {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+fn detected() -> &'static [bool; 4] {
+    static D: OnceLock<[bool; 4]> = OnceLock::new();
+    D.get_or_init(|| {
+        #[cfg(target_arch = "x86_64")]
+        {
+            let sse = std::is_x86_feature_detected!("sse4.1");
+            let avx = std::is_x86_feature_detected!("avx");
+            let avx2fma =
+                avx && std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma");
+            [true, sse, avx, avx2fma]
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            [true, false, false, false]
+        }
+    })
+}
+
+/// A capability token: a value exists only if this CPU runs the instruction set (the SIMD
+/// tokens live in `crate::arch` with private fields, made only by detection). Running a job
+/// needs one, so nothing reaches a `#[target_feature]` entry point without detection.
+pub(crate) trait Token: Copy + 'static {
+    /// Runs an f32 job on this instruction set.
+    fn run_f32(self, job: &mut Job<'_, f32>);
+    /// Runs an f64 job on this instruction set.
+    fn run_f64(self, job: &mut Job<'_, f64>);
+}
+
+/// The token of the portable (scalar) variant: always available.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Portable;
+
+macro_rules! portable_entries {
+    ([] $($v:ident, $name:literal, $k:path, $about:literal;)*) => {
+        // One out-of-line function per query and precision, a module per precision: small
+        // units for the compiler, optimised in parallel.
+        mod p32 {
+            use super::*;
+            $(
+                #[inline(never)]
+                #[allow(non_snake_case)]
+                pub(super) fn $v(k: Portable, job: &mut Job<'_, f32>) {
+                    crate::driver::run::<f32, $k>(k, job)
+                }
+            )*
+        }
+        mod p64 {
+            use super::*;
+            $(
+                #[inline(never)]
+                #[allow(non_snake_case)]
+                pub(super) fn $v(k: Portable, job: &mut Job<'_, f64>) {
+                    crate::driver::run::<f64, $k>(k, job)
+                }
+            )*
+        }
+        impl Token for Portable {
+            fn run_f32(self, job: &mut Job<'_, f32>) {
+                match job.query {
+                    $(Query::$v => p32::$v(self, job),)*
+                }
+            }
+            fn run_f64(self, job: &mut Job<'_, f64>) {
+                match job.query {
+                    $(Query::$v => p64::$v(self, job),)*
+                }
+            }
+        }
+    };
+}
+mod portable {
+    use super::*;
+    for_each_query!(portable_entries);
+}
+
+macro_rules! run_for {
+    ($fname:ident, $t:ty, $run:ident) => {
+        /// Runs `job` on `isa` with a token from runtime detection (one cached load); a variant
+        /// this CPU lacks runs the portable code instead.
+        pub(crate) fn $fname(isa: Isa, job: &mut Job<'_, $t>) {
+            match isa {
+                Isa::Scalar => Portable.$run(job),
+                #[cfg(target_arch = "x86_64")]
+                Isa::Sse41 => match crate::arch::x86::Sse41::detect() {
+                    Some(k) => k.$run(job),
+                    None => Portable.$run(job),
+                },
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx => match crate::arch::x86::Avx::detect() {
+                    Some(k) => k.$run(job),
+                    None => Portable.$run(job),
+                },
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx2Fma => match crate::arch::x86::Avx2Fma::detect() {
+                    Some(k) => k.$run(job),
+                    None => Portable.$run(job),
+                },
+                #[cfg(not(target_arch = "x86_64"))]
+                _ => Portable.$run(job),
+            }
+        }
+    };
+}
+run_for!(run_f32, f32, run_f32);
+run_for!(run_f64, f64, run_f64);

@@ -1,0 +1,97 @@
+//! The query registry: the one list of queries. Each line names a query, its kernel (the
+//! algorithm file's type implementing `algo::Kernel`) and a one-line description. From it come
+//! the public [`Query`] enum and its metadata, and every instruction set's entry points
+//! (`crate::isa`, `crate::arch`). The harness, the benches and the CLI enumerate
+//! [`Query::ALL`]; adding a query is its algorithm file plus one line here (ARCHITECTURE.md).
+
+/// Calls `$m!` with the registry (optionally preceded by `[extra arguments]`): one
+/// `Variant, "name", kernel type, "description";` per query.
+macro_rules! for_each_query {
+    ($m:ident $(, $extra:tt)*) => {
+        $m! { [$($extra),*]
+            SegSeg, "seg_seg", crate::algo::seg_seg::SegSeg,
+                "segment-segment squared distance and closest points (Ericson 5.1.9)";
+            PointTri, "point_tri", crate::algo::point_tri::PointTri,
+                "point-triangle squared distance and closest point (Ericson 5.1.5)";
+            TriTri, "tri_tri", crate::algo::pqp::TriTri,
+                "triangle-triangle squared distance and closest points: fast stage, then PQP's TriDist";
+            TriTriBrute, "tri_tri_brute", crate::algo::brute::Brute,
+                "triangle-triangle by brute force: 15 feature pairs + separating axes";
+            Intersect, "intersect", crate::algo::sat::Intersect,
+                "triangle-triangle intersection: certified separating axes or piercing witness";
+            Within, "within", crate::algo::within::Within,
+                "triangle-triangle within-margin: box test, then the distance when within the margin";
+            Penalty, "penalty", crate::algo::penalty::Penalty,
+                "triangle-triangle by Krestenitis & Koziara's penalty method (approximate)";
+        }
+    };
+}
+pub(crate) use for_each_query;
+
+macro_rules! define_query {
+    ([] $($v:ident, $name:literal, $k:path, $about:literal;)*) => {
+        /// Every query the crate answers (the registry). Batch queries run through
+        /// [`crate::Engine::run`] by this name as well as through their typed methods.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum Query {
+            $(#[doc = $about] $v,)*
+        }
+
+        impl Query {
+            /// Every query, in registry order.
+            pub const ALL: &'static [Query] = &[$(Query::$v),*];
+
+            /// Short name (CLI, reports): `seg_seg`, `point_tri`, `tri_tri`, ...
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(Query::$v => $name,)*
+                }
+            }
+
+            /// Parses [`Query::name`].
+            pub fn parse(s: &str) -> Option<Query> {
+                Query::ALL.iter().copied().find(|q| q.name() == s)
+            }
+
+            /// One line on what the query computes.
+            pub fn about(self) -> &'static str {
+                match self {
+                    $(Query::$v => $about,)*
+                }
+            }
+
+            /// Points per primitive of the first and the second side (1 point, 2 segment,
+            /// 3 triangle).
+            pub fn arity(self) -> (usize, usize) {
+                use crate::algo::Kernel;
+                match self {
+                    $(Query::$v => (<$k as Kernel>::KA, <$k as Kernel>::KB),)*
+                }
+            }
+        }
+    };
+}
+for_each_query!(define_query);
+
+impl Query {
+    /// Is the answer an intersection verdict ([`crate::Intersection`]) rather than a distance?
+    pub fn is_verdict(self) -> bool {
+        self == Query::Intersect
+    }
+
+    /// Does the query take a margin ([`crate::Engine::margin`])?
+    pub fn has_margin(self) -> bool {
+        self == Query::Within
+    }
+
+    /// Is the answer an approximation (never escalated, its interval may be wide)?
+    pub fn is_approximate(self) -> bool {
+        self == Query::Penalty
+    }
+}
+
+impl core::fmt::Display for Query {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
