@@ -7,10 +7,16 @@ use tridist_scenes::{families, Family};
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
     let q = Query::parse(&a[0]).expect("query");
-    let fam = Family::parse(&a[1]).expect("family");
+    let arm = || tridist_scenes::mesh::carried("armadillo.off").expect("armadillo");
     let isa = Isa::parse(&a[3]).unwrap_or(Isa::Scalar);
     let secs: f64 = a[4].parse().unwrap_or(5.0);
-    let pairs: Vec<_> = families::generate::<f64>(fam, 7, 4096).into_iter().map(|c| (c.a, c.b)).collect();
+    // a family name, or `arm_nearby` (nearby pairs of the Armadillo mesh)
+    let pairs: Vec<_> = if a[1] == "arm_nearby" {
+        tridist_scenes::protocol::nearby_pairs(&arm(), 3.0, 4096, 7)
+    } else {
+        let fam = Family::parse(&a[1]).expect("family");
+        families::generate::<f64>(fam, 7, 4096).into_iter().map(|c| (c.a, c.b)).collect()
+    };
     let e = Engine::new(isa).expect("available");
     let t = std::time::Instant::now();
     let mut n = 0usize;

@@ -1,7 +1,10 @@
 //! API behaviour that needs no oracle: bad input, lengths, lane positions and batch tails,
 //! layouts, within-margin, power-of-two scaling. Every test runs on every available variant.
 
-use tridist::{Engine, Error, Isa, Prims, SegmentBatch, Triangle, TriangleBatch};
+use tridist::{
+    ClosestPoints, Engine, Error, Intersection, Interval, Isa, Outputs, PenaltyOptions, Prims, Proximity,
+    Query, SegmentBatch, Tolerance, Triangle, TriangleBatch,
+};
 
 fn engines() -> Vec<Engine> {
     Isa::ALL.into_iter().filter_map(|i| Engine::new(i).ok()).collect()
@@ -44,9 +47,9 @@ fn same_bits_in_every_lane_position_and_in_the_tail() {
         let alone: Vec<(f32, [f32; 3], [f32; 3])> = ps
             .iter()
             .map(|(a, b)| {
-                let (mut d, mut p, mut q) = ([0.0], [[0.0; 3]], [[0.0; 3]]);
-                e.closest_points_triangle_triangle(&[*a][..], &[*b][..], &mut d, &mut p, &mut q).unwrap();
-                (d[0], p[0], q[0])
+                let mut cp = [ClosestPoints::default()];
+                e.closest_points_triangle_triangle(&[*a][..], &[*b][..], &mut cp).unwrap();
+                (cp[0].sqdist, cp[0].p, cp[0].q)
             })
             .collect();
         // Every batch length 1..=17 and every offset: the pair lands in every lane and the tail.
@@ -55,22 +58,22 @@ fn same_bits_in_every_lane_position_and_in_the_tail() {
                 let a: Vec<_> = ps[start..start + len].iter().map(|x| x.0).collect();
                 let b: Vec<_> = ps[start..start + len].iter().map(|x| x.1).collect();
                 let (ba, bb) = (TriangleBatch::from_slice(&a), TriangleBatch::from_slice(&b));
-                let mut d = vec![0.0f32; len];
-                let (mut p, mut q) = (vec![[0.0; 3]; len], vec![[0.0; 3]; len]);
-                e.closest_points_triangle_triangle(&ba, &bb, &mut d, &mut p, &mut q).unwrap();
+                let mut cp = vec![ClosestPoints::default(); len];
+                e.closest_points_triangle_triangle(&ba, &bb, &mut cp).unwrap();
                 for k in 0..len {
                     let (rd, rp, rq) = alone[start + k];
                     assert_eq!(
-                        d[k].to_bits(),
+                        cp[k].sqdist.to_bits(),
                         rd.to_bits(),
                         "{:?} len {len} start {start} lane {k}",
                         e.isa()
                     );
-                    assert_eq!(p[k], rp);
-                    assert_eq!(q[k], rq);
+                    assert_eq!(cp[k].p, rp);
+                    assert_eq!(cp[k].q, rq);
                 }
                 let mut d2 = vec![0.0f32; len];
                 e.sqdist_triangle_triangle(&ba, &bb, &mut d2).unwrap();
+                let d: Vec<f32> = cp.iter().map(|c| c.sqdist).collect();
                 assert_eq!(d, d2, "distance-only must equal the distance of the points query");
             }
         }
@@ -119,23 +122,24 @@ fn non_finite_input_gives_nan_and_none_without_touching_other_lanes() {
         for e in engines() {
             let mut reference = vec![0.0; 9];
             e.sqdist_triangle_triangle(&clean, &b, &mut reference).unwrap();
-            let mut d = vec![0.0; 9];
-            let (mut p, mut q) = (vec![[0.0; 3]; 9], vec![[0.0; 3]; 9]);
-            e.closest_points_triangle_triangle(
-                &TriangleBatch::from_slice(&a),
-                &TriangleBatch::from_slice(&b),
-                &mut d,
-                &mut p,
-                &mut q,
-            )
-            .unwrap();
-            assert!(d[4].is_nan() && p[4][0].is_nan() && q[4][0].is_nan());
+            let mut cp = vec![ClosestPoints::default(); 9];
+            let mut iv = vec![Interval::default(); 9];
+            let out = Outputs::new().closest_points(&mut cp).intervals(&mut iv);
+            e.run(Query::TriTri, &TriangleBatch::from_slice(&a), &TriangleBatch::from_slice(&b), out)
+                .unwrap();
+            assert!(cp[4].sqdist.is_nan() && cp[4].p[0].is_nan() && cp[4].q[0].is_nan());
+            assert!(iv[4].lo.is_nan() && iv[4].hi.is_nan());
             for k in (0..9).filter(|&k| k != 4) {
-                assert_eq!(d[k].to_bits(), reference[k].to_bits(), "{:?} lane {k} disturbed", e.isa());
+                assert_eq!(
+                    cp[k].sqdist.to_bits(),
+                    reference[k].to_bits(),
+                    "{:?} lane {k} disturbed",
+                    e.isa()
+                );
             }
-            let mut f = vec![Some(false); 9];
+            let mut f = vec![Intersection::Disjoint; 9];
             e.intersect_triangle_triangle(&a, &b, &mut f).unwrap();
-            assert_eq!(f[4], None);
+            assert_eq!(f[4], Intersection::Invalid);
             let mut w = vec![0.0; 9];
             e.within_margin_triangle_triangle(&a, &b, 1.0, &mut w).unwrap();
             assert!(w[4].is_nan());
@@ -162,25 +166,35 @@ fn misuse_is_an_error_not_a_panic() {
         ));
         assert!(matches!(
             e.sqdist_triangle_triangle(&a, &a, &mut out[..2]),
-            Err(Error::LengthMismatch { what: "out", .. })
+            Err(Error::LengthMismatch { what: "sqdist", .. })
         ));
         let (mut p, mut q) = (vec![[0.0; 3]; 5], vec![[0.0; 3]; 4]);
         assert!(matches!(
-            e.closest_points_triangle_triangle(&a, &a, &mut out, &mut p, &mut q),
-            Err(Error::LengthMismatch { what: "out_q", .. })
+            e.run(Query::TriTri, &a, &a, Outputs::new().sqdist(&mut out).points(&mut p, &mut q)),
+            Err(Error::LengthMismatch { what: "q", .. })
+        ));
+        assert!(matches!(
+            e.run(Query::SegSeg, &a, &a, Outputs::new().sqdist(&mut out)),
+            Err(Error::Arity { query: Query::SegSeg, expected: (2, 2), found: (3, 3) })
         ));
         assert_eq!(e.within_margin_triangle_triangle(&a, &a, -1.0, &mut out), Err(Error::InvalidMargin));
         assert_eq!(e.within_margin_triangle_triangle(&a, &a, f32::NAN, &mut out), Err(Error::InvalidMargin));
+        assert_eq!(e.tolerance(Tolerance::scaled(-1.0)).err(), Some(Error::InvalidTolerance));
+        assert_eq!(e.tolerance(Tolerance::relative(f64::NAN)).err(), Some(Error::InvalidTolerance));
         // empty batches are fine
         let empty = TriangleBatch::<f32>::from_slice(&[]);
-        assert_eq!(e.sqdist_triangle_triangle(&empty, &empty, &mut []), Ok(()));
+        assert_eq!(e.sqdist_triangle_triangle(&empty, &empty, &mut []).map(|c| c.pairs), Ok(0));
         let segs = SegmentBatch::<f32>::from_slice(&[]);
-        assert_eq!(e.sqdist_segment_segment(&segs, &segs, &mut []), Ok(()));
+        assert_eq!(e.sqdist_segment_segment(&segs, &segs, &mut []).map(|c| c.pairs), Ok(0));
     }
     assert!(matches!(
         tridist::within_margin_triangle_triangle(&ps_f32()[0], &ps_f32()[0], f32::INFINITY),
         Err(Error::InvalidMargin)
     ));
+    assert_eq!(
+        Engine::scalar().single::<f32, [f32; 3]>(Query::PointTri, &ps_f32()[0], &ps_f32()[0]).err(),
+        Some(Error::Arity { query: Query::PointTri, expected: (1, 3), found: (3, 3) })
+    );
     assert!(TriangleBatch::from_mesh(&[[0.0f32; 3]; 2], &[[0, 1, 2]]).is_err());
     assert_eq!(Isa::parse("avx512"), None);
 }
@@ -263,11 +277,11 @@ fn overflowing_squares_give_infinity_with_finite_points() {
     let a = [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]].map(|p| p.map(|c| c * 1e30));
     let b = a.map(|p| [p[0], p[1], p[2] + 3e30]);
     for e in engines() {
-        let (mut d, mut p, mut q) = ([0.0f32], [[0.0f32; 3]], [[0.0f32; 3]]);
-        e.closest_points_triangle_triangle(Prims::One(&a), Prims::One(&b), &mut d, &mut p, &mut q).unwrap();
-        assert_eq!(d[0], f32::INFINITY);
-        assert!(p[0].iter().chain(q[0].iter()).all(|c| c.is_finite()));
-        assert_eq!((q[0][2] - p[0][2]), 3e30);
+        let mut cp = [ClosestPoints::default()];
+        e.closest_points_triangle_triangle(Prims::One(a), Prims::One(b), &mut cp).unwrap();
+        assert_eq!(cp[0].sqdist, f32::INFINITY);
+        assert!(cp[0].p.iter().chain(cp[0].q.iter()).all(|c| c.is_finite()));
+        assert_eq!((cp[0].q[2] - cp[0].p[2]), 3e30);
     }
 }
 
@@ -278,17 +292,17 @@ fn threaded_batches_give_the_same_bits() {
     let b: Vec<_> = ps.iter().map(|x| x.1).collect();
     let (ba, bb) = (TriangleBatch::from_slice(&a), TriangleBatch::from_slice(&b));
     for e in engines() {
-        let (mut one, mut two) = (vec![0.0f32; ps.len()], vec![0.0f32; ps.len()]);
-        let (mut p1, mut p2) = (vec![[0.0f32; 3]; ps.len()], vec![[0.0f32; 3]; ps.len()]);
-        let (mut q1, mut q2) = (vec![[0.0f32; 3]; ps.len()], vec![[0.0f32; 3]; ps.len()]);
-        e.closest_points_triangle_triangle(&ba, &bb, &mut one, &mut p1, &mut q1).unwrap();
-        e.threads(3).closest_points_triangle_triangle(&ba, &bb, &mut two, &mut p2, &mut q2).unwrap();
+        let (mut one, mut two) =
+            (vec![ClosestPoints::default(); ps.len()], vec![ClosestPoints::default(); ps.len()]);
+        let c1 = e.closest_points_triangle_triangle(&ba, &bb, &mut one).unwrap();
+        let c2 = e.threads(3).closest_points_triangle_triangle(&ba, &bb, &mut two).unwrap();
         assert_eq!(one, two);
-        assert_eq!((p1, q1), (p2, q2));
+        assert_eq!(c1, c2, "the same paths, counted once each");
+        assert_eq!(c1.pairs, ps.len() as u64);
         let mut aos = vec![0.0f32; ps.len()];
         e.threads(2).sqdist_triangle_triangle(&a, &b, &mut aos).unwrap();
-        assert_eq!(one, aos);
-        let (mut f1, mut f2) = (vec![None; ps.len()], vec![None; ps.len()]);
+        assert_eq!(one.iter().map(|c| c.sqdist).collect::<Vec<_>>(), aos);
+        let (mut f1, mut f2) = (vec![Intersection::Invalid; ps.len()], vec![Intersection::Invalid; ps.len()]);
         e.intersect_triangle_triangle(&ba, &bb, &mut f1).unwrap();
         e.threads(0).intersect_triangle_triangle(&ba, &bb, &mut f2).unwrap();
         assert_eq!(f1, f2);
@@ -309,16 +323,27 @@ fn within_margin_zero_agrees_for_touching_pairs_far_from_origin() {
         [-783424.0, -783424.0, 280925220113344.0],
         [-783423.9999999993, -783424.0, -783424.0],
     ];
+    // The exact distance of this pair is 3.67e-4 at S = 1.27e15 (u S = 0.14): within rounding of
+    // touching. Pinned: the full query's distance is within E <= 8 of the exact one, and
+    // within-margin 0 says "within" only if the exact distance is within 8 u S of 0, with the
+    // full query's value.
+    let exact = tridist_oracle::sqdist_triangle_triangle(&a, &b).unwrap().to_f64().sqrt();
+    assert!((exact - 3.6696e-4).abs() < 1e-7, "{exact}");
+    let us = f64::EPSILON / 2.0 * 1_266_637_395_981_376.0;
     for e in engines() {
-        let (mut full, mut w) = ([0.0f64], [0.0f64]);
-        e.sqdist_triangle_triangle(Prims::One(&a), Prims::One(&b), &mut full).unwrap();
-        e.within_margin_triangle_triangle(Prims::One(&a), Prims::One(&b), 0.0, &mut w).unwrap();
-        if full[0] == 0.0 {
-            assert_eq!(w[0], 0.0, "{:?}", e.isa());
+        let (mut full, mut w) = ([1.0f64], [1.0f64]);
+        e.sqdist_triangle_triangle(Prims::One(a), Prims::One(b), &mut full).unwrap();
+        e.within_margin_triangle_triangle(Prims::One(a), Prims::One(b), 0.0, &mut w).unwrap();
+        assert!((full[0].sqrt() - exact).abs() <= 8.0 * us, "{:?}: {} vs {exact}", e.isa(), full[0].sqrt());
+        if w[0] == f64::INFINITY {
+            assert!(full[0] > 0.0, "{:?}", e.isa());
         } else {
-            assert_eq!(w[0], f64::INFINITY, "{:?}", e.isa());
+            assert_eq!(w[0], full[0], "{:?}", e.isa());
+            assert!(w[0] == 0.0 && exact <= 8.0 * us, "{:?}: within 0 at distance {exact}", e.isa());
         }
     }
+    let single = tridist::within_margin_triangle_triangle(&a, &b, 0.0).unwrap();
+    assert!(matches!(single, Proximity::Within(d) if d == 0.0) || single == Proximity::Beyond, "{single:?}");
 }
 
 #[test]
@@ -328,38 +353,155 @@ fn penalty_method_returns_feasible_points_and_honours_its_options() {
     let b: Vec<_> = ps.iter().map(|x| x.1).collect();
     let n = ps.len();
     for e in engines() {
-        let opts = tridist::PenaltyOptions { max_iter: 5, ..Default::default() };
-        let (mut d, mut p, mut q, mut it) =
-            (vec![0.0; n], vec![[0.0; 3]; n], vec![[0.0; 3]; n], vec![0u32; n]);
-        e.closest_points_triangle_triangle_penalty(&a, &b, &opts, &mut d, &mut p, &mut q, &mut it).unwrap();
+        let opts = PenaltyOptions { max_iter: 5, ..Default::default() };
+        let (mut cp, mut it) = (vec![ClosestPoints::default(); n], vec![0u32; n]);
+        e.penalty_triangle_triangle(&a, &b, &opts, &mut cp, &mut it).unwrap();
         let mut exact = vec![0.0; n];
         e.sqdist_triangle_triangle(&a, &b, &mut exact).unwrap();
         for i in 0..n {
             assert!((1..=5).contains(&it[i]), "{:?}: {} iterations", e.isa(), it[i]);
             // the points are projected into their triangles: an upper bound of the distance
             assert!(
-                d[i] >= exact[i] * (1.0 - 1e-9) - 1e-12,
+                cp[i].sqdist >= exact[i] * (1.0 - 1e-9) - 1e-12,
                 "{:?} pair {i}: {} < {}",
                 e.isa(),
-                d[i],
+                cp[i].sqdist,
                 exact[i]
             );
-            let dd: f64 = (0..3).map(|k| (p[i][k] - q[i][k]).powi(2)).sum();
-            assert!((dd - d[i]).abs() <= 1e-12 * (1.0 + d[i]), "the distance is that of the points");
+            let dd: f64 = (0..3).map(|k| (cp[i].p[k] - cp[i].q[k]).powi(2)).sum();
+            assert!((dd - cp[i].sqdist).abs() <= 1e-12 * (1.0 + dd), "the distance is that of the points");
         }
-        let bad = tridist::PenaltyOptions { rho: -1.0, ..opts };
-        assert_eq!(
-            e.closest_points_triangle_triangle_penalty(&a, &b, &bad, &mut d, &mut p, &mut q, &mut it),
-            Err(Error::InvalidOptions)
-        );
-        let zero = tridist::PenaltyOptions { max_iter: 0, ..opts };
-        assert_eq!(
-            e.closest_points_triangle_triangle_penalty(&a, &b, &zero, &mut d, &mut p, &mut q, &mut it),
-            Err(Error::InvalidOptions)
-        );
+        let bad = PenaltyOptions { rho: -1.0, ..opts };
+        assert_eq!(e.penalty_triangle_triangle(&a, &b, &bad, &mut cp, &mut it), Err(Error::InvalidOptions));
+        let zero = PenaltyOptions { max_iter: 0, ..opts };
+        assert_eq!(e.penalty_triangle_triangle(&a, &b, &zero, &mut cp, &mut it), Err(Error::InvalidOptions));
         assert!(matches!(
-            e.closest_points_triangle_triangle_penalty(&a, &b, &opts, &mut d, &mut p, &mut q, &mut it[..3]),
-            Err(Error::LengthMismatch { what: "out_iters", .. })
+            e.penalty_triangle_triangle(&a, &b, &opts, &mut cp, &mut it[..3]),
+            Err(Error::LengthMismatch { what: "iterations", .. })
         ));
     }
+}
+
+#[test]
+fn single_queries_equal_a_batch_of_one_and_certify() {
+    let ps = pairs::<f64>(60);
+    for (a, b) in &ps {
+        let mut d = [0.0];
+        Engine::scalar().sqdist_triangle_triangle(&[*a][..], &[*b][..], &mut d).unwrap();
+        assert_eq!(tridist::sqdist_triangle_triangle(a, b).to_bits(), d[0].to_bits());
+        let r = Engine::scalar().single(Query::TriTri, a, b).unwrap();
+        assert_eq!(r.closest.sqdist.to_bits(), d[0].to_bits());
+        assert!(r.certified && r.interval.contains(r.closest.sqdist.sqrt()), "{r:?}");
+        assert!(
+            r.interval.width() <= 64.0 * f64::EPSILON / 2.0 * 2.0,
+            "default tolerance 64 u S, S <= 1 here: {r:?}"
+        );
+        assert_eq!(
+            tridist::intersect_triangle_triangle(a, b).as_bool(),
+            Some(r.verdict == Intersection::Intersecting)
+        );
+    }
+}
+
+#[test]
+fn outputs_in_any_combination_agree() {
+    let ps = pairs::<f32>(37);
+    let a: Vec<_> = ps.iter().map(|x| x.0).collect();
+    let b: Vec<_> = ps.iter().map(|x| x.1).collect();
+    let n = a.len();
+    for e in engines() {
+        let mut cp = vec![ClosestPoints::default(); n];
+        e.closest_points_triangle_triangle(&a, &b, &mut cp).unwrap();
+        let (mut d, mut p, mut q, mut iv, mut v) = (
+            vec![0.0f32; n],
+            vec![[0.0f32; 3]; n],
+            vec![[0.0f32; 3]; n],
+            vec![Interval::default(); n],
+            vec![Intersection::Invalid; n],
+        );
+        let out = Outputs::new().sqdist(&mut d).points(&mut p, &mut q).intervals(&mut iv).verdicts(&mut v);
+        let counts = e.run(Query::TriTri, &a, &b, out).unwrap();
+        assert_eq!(counts.pairs, n as u64);
+        for i in 0..n {
+            assert_eq!((cp[i].sqdist, cp[i].p, cp[i].q), (d[i], p[i], q[i]));
+            assert!(iv[i].lo <= iv[i].hi && iv[i].lo >= 0.0);
+            // every pair's distance lies in its interval up to its final rounding
+            let dist = d[i].sqrt();
+            assert!(
+                dist >= iv[i].lo * (1.0 - 1e-6) && dist <= iv[i].hi * (1.0 + 1e-6),
+                "{i}: {dist} {:?}",
+                iv[i]
+            );
+            assert_eq!(
+                v[i] == Intersection::Intersecting,
+                d[i] == 0.0 || iv[i].lo == 0.0 && iv[i].hi <= 64.0 * 6e-8 * 2.0
+            );
+        }
+    }
+}
+
+#[test]
+fn tolerances_trade_work_for_width() {
+    let ps = pairs::<f32>(400);
+    let a: Vec<_> = ps.iter().map(|x| x.0).collect();
+    let b: Vec<_> = ps.iter().map(|x| x.1).collect();
+    let n = a.len();
+    for e in engines() {
+        let mut widths = Vec::new();
+        for tol in [Tolerance::DEFAULT, Tolerance::scaled(4.0), Tolerance::absolute(1e-9), Tolerance::EXACT] {
+            let (mut d, mut iv) = (vec![0.0f32; n], vec![Interval::default(); n]);
+            let c = e
+                .tolerance(tol)
+                .unwrap()
+                .run(Query::TriTri, &a, &b, Outputs::new().sqdist(&mut d).intervals(&mut iv))
+                .unwrap();
+            let w = iv.iter().map(|i| i.width()).fold(0.0f32, f32::max);
+            widths.push((tol, w, c));
+        }
+        // a tighter tolerance sends more pairs down the pipeline and narrows the intervals
+        assert!(
+            widths[1].2.recertified + widths[1].2.widened >= widths[0].2.recertified + widths[0].2.widened
+        );
+        assert!(widths[1].1 <= widths[0].1, "{widths:?}");
+        // f32 pairs the f32 stages cannot certify to 1e-9 go to f64, whose intervals are that tight
+        assert!(widths[2].2.widened > 0 && widths[2].1 <= 1e-6, "{widths:?}");
+    }
+}
+
+#[test]
+fn batches_update_in_place_and_queries_see_it() {
+    let ps = pairs::<f64>(20);
+    let a: Vec<_> = ps.iter().map(|x| x.0).collect();
+    let local = TriangleBatch::from_slice(&a);
+    let mut world = TriangleBatch::default();
+    let far = tridist::Pose::translation([100.0, 0.0, 0.0]);
+    world.transform_from(&local, &far).unwrap();
+    let mut d = vec![0.0; 20];
+    let e = Engine::auto();
+    e.sqdist_triangle_triangle(&world, &local, &mut d).unwrap();
+    assert!(d.iter().all(|&x| x > 90.0 * 90.0), "moved 100 away");
+    world.transform_from(&local, &tridist::Pose::identity()).unwrap();
+    e.sqdist_triangle_triangle(&world, &local, &mut d).unwrap();
+    assert!(d.iter().all(|&x| x == 0.0), "the same triangles");
+}
+
+#[cfg(feature = "glam")]
+#[test]
+fn glam_vectors_are_points() {
+    let a = [glam::Vec3::new(0.0, 0.0, 0.0), glam::Vec3::new(1.0, 0.0, 0.0), glam::Vec3::new(0.0, 1.0, 0.0)];
+    let b = a.map(|v| v + glam::Vec3::Z * 2.0);
+    assert_eq!(tridist::sqdist_triangle_triangle(&a, &b), 4.0f32);
+    let da = a.map(|v| v.as_dvec3());
+    let db = b.map(|v| v.as_dvec3());
+    assert_eq!(tridist::sqdist_triangle_triangle(&da, &db), 4.0f64);
+    let batch = TriangleBatch::from_points([a, b]);
+    assert_eq!(batch.get(1), Some(b.map(|v| v.to_array())));
+}
+
+#[cfg(feature = "mint")]
+#[test]
+fn mint_points_are_points() {
+    let p = |x: f32, y: f32, z: f32| mint::Point3 { x, y, z };
+    let a = [p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.0)];
+    assert_eq!(tridist::sqdist_point_triangle(&p(0.25, 0.25, 3.0), &a), 9.0);
 }

@@ -285,10 +285,15 @@ fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance) -> Verdict {
                     where_()
                 ));
             }
-            let d = o.d[0].to_f64().sqrt();
-            let slack = 4.0 * T::UNIT_ROUNDOFF.to_f64() * d;
-            if d.is_finite() && (d < iv.lo.to_f64() - slack || d > iv.hi.to_f64() + slack) {
-                return Err(format!("answer {d:e} outside its interval {iv:?}: {}", where_()));
+            // The answer's square lies between the interval's squares, up to its rounding (and
+            // the documented underflow of squares below the smallest subnormal).
+            let d2 = o.d[0].to_f64();
+            let (lo, hi) = (iv.lo.to_f64(), iv.hi.to_f64());
+            let (u, tiny) = (T::UNIT_ROUNDOFF.to_f64(), 4.0 * T::from_bits_u64(1).to_f64());
+            if d2.is_finite()
+                && (d2 < lo * lo * (1.0 - 8.0 * u) - tiny || d2 > hi * hi * (1.0 + 8.0 * u) + tiny)
+            {
+                return Err(format!("answer {:e} outside its interval {iv:?}: {}", d2.sqrt(), where_()));
             }
             let s = crate::eval::truth(q, cases)[0].s;
             let allowed = (tol.scaled * T::UNIT_ROUNDOFF.to_f64() * s)

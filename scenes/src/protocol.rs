@@ -121,3 +121,52 @@ pub fn vertex_pairs<T: Copy>(p: &[(Triangle<T>, Triangle<T>)]) -> (Vec<[[T; 3]; 
     }
     (a, b)
 }
+
+/// Nearby triangle pairs of one mesh (normalised to [-1, 1]^3): a triangle at random and
+/// another whose centroid lies within `k` mean edge lengths of its centroid (a few share a
+/// vertex or an edge; most are a fraction of an edge apart). The workload of issue 13's FCL
+/// comparison, "nearby triangle pairs of one mesh".
+pub fn nearby_pairs(m: &Mesh, k: f64, n: usize, seed: u64) -> Vec<(Triangle<f64>, Triangle<f64>)> {
+    let tris = normalised(m);
+    let cent: Vec<[f64; 3]> =
+        tris.iter().map(|t| [0, 1, 2].map(|c| (t[0][c] + t[1][c] + t[2][c]) / 3.0)).collect();
+    let edge = |a: [f64; 3], b: [f64; 3]| {
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    };
+    let mean = tris.iter().map(|t| edge(t[0], t[1]) + edge(t[1], t[2]) + edge(t[2], t[0])).sum::<f64>()
+        / (3.0 * tris.len() as f64);
+    let r = k * mean;
+    // grid of cells of size r over [-1, 1]^3
+    let cells = ((2.0 / r).ceil() as usize).clamp(1, 256);
+    let cell = |p: [f64; 3]| p.map(|x| (((x + 1.0) / 2.0 * cells as f64) as usize).min(cells - 1));
+    let mut grid: std::collections::HashMap<[usize; 3], Vec<usize>> = std::collections::HashMap::new();
+    for (i, c) in cent.iter().enumerate() {
+        grid.entry(cell(*c)).or_default().push(i);
+    }
+    let mut rng = Rng::new(seed);
+    let mut out = Vec::with_capacity(n);
+    while out.len() < n {
+        let i = rng.below(tris.len());
+        let c0 = cell(cent[i]);
+        let mut near = Vec::new();
+        for dx in 0..3 {
+            for dy in 0..3 {
+                for dz in 0..3 {
+                    let c = [c0[0] + dx, c0[1] + dy, c0[2] + dz];
+                    if c.iter().any(|&x| x == 0 || x > cells) {
+                        continue;
+                    }
+                    if let Some(v) = grid.get(&[c[0] - 1, c[1] - 1, c[2] - 1]) {
+                        near.extend(v.iter().copied().filter(|&j| j != i && edge(cent[i], cent[j]) <= r));
+                    }
+                }
+            }
+        }
+        if near.is_empty() {
+            continue;
+        }
+        let j = near[rng.below(near.len())];
+        out.push((tris[i], tris[j]));
+    }
+    out
+}

@@ -21,15 +21,24 @@ impl Kernel for Within {
         let k = Cx::of(sc.p);
         let inv = k.one().div(sc.p);
         let m = k.splat(prm.margin).mul(inv);
-        // The box gap (prescaled): each coordinate difference is rounded once (relative u), so
-        // the computed squared gap is at most (1 + 8u) times the exact one; beyond the margin
-        // with that slack, the exact distance (at least the exact box gap) is beyond it too.
+        // The box gap (prescaled) is a lower bound of the exact distance up to the rounding of
+        // the coordinate differences (relative u). The full query's answer may be off the exact
+        // distance by up to its tolerance (absolute `tol`, relative `rel`), so a pair is
+        // skipped only when even the lowest answer the full query could give,
+        // `gap (1 - rel) - tol`, exceeds the margin (with slack for this test's own rounding):
+        // then within-margin is exactly the full query thresholded.
+        let gap = aabb_gap2(&s, &t).sqrt().mul(k.one().sub(k.u().mul(k.c(8.0))));
+        let tol = k
+            .splat(prm.tol_scaled)
+            .mul(sc.m.mul(inv))
+            .max(k.splat(prm.tol_abs).mul(inv))
+            .add(k.u().mul(k.c(8.0)));
+        let low = gap.mul(k.one().sub(k.splat(prm.tol_rel))).sub(tol);
         // In the caller's units as well: a squared distance that underflows to 0 there is
         // within a margin of 0 (fuzzing found subnormal pairs skipped in prescaled units).
-        let gap2 = aabb_gap2(&s, &t);
-        let slack = k.one().add(k.u().mul(k.c(16.0)));
         let margin2 = k.splat(prm.margin).mul(k.splat(prm.margin));
-        let far = gap2.gt(m.mul(m).mul(slack)).and(gap2.mul(sc.p.mul(sc.p)).gt(margin2));
+        let far =
+            low.gt(m.mul(k.one().add(k.u().mul(k.c(8.0))))).and(low.mul(low).mul(sc.p.mul(sc.p)).gt(margin2));
         let out = Out { d: k.inf(), p: k.v0(), q: k.v0(), lo: k.zero(), hi: k.inf(), ok: far, it: k.zero() };
         nan_where_invalid(out, &sc)
     }
