@@ -1,10 +1,12 @@
-//! Every query x variant x precision, in queries per second (`Throughput::Elements`), on
-//! random unit-cube pairs and on the paper's protocol (Armadillo vs Armadillo, CAD vs CAD,
-//! CAD vs Armadillo; four triangles sharing a vertex, or four random ones, against one), plus
-//! the threaded batch path. Inputs come from the shared generators with fixed seeds; every
+//! Every query x variant x precision, in queries per second (`Throughput::Elements`), on the
+//! standard workloads (`protocol::standard`: random unit-cube pairs, nearby Armadillo
+//! triangles, and the paper's protocol: Armadillo vs Armadillo, CAD vs CAD, CAD vs Armadillo;
+//! four triangles sharing a vertex, or four random ones, against one), plus the threaded batch
+//! path. Inputs come from the shared generators with fixed seeds; every
 //! benchmark first checks its results against the scalar AoS variant. The triangle-distance
-//! groups also time the peer, parry3d (f32) / parry3d-f64 `query::distance` on `Triangle`
-//! shapes, on the same inputs in the same run (after checking that it agrees with tridist).
+//! groups also time the peers on the same inputs in the same run: FCL's PQP `TriangleDistance`
+//! (when its headers were installed at build time) and parry3d (f32) / parry3d-f64
+//! `query::distance` on `Triangle` shapes, after checking that each agrees with tridist.
 //!
 //! `cargo bench -p tridist-benches` (all), `cargo bench -p tridist-benches -- tri_tri/random`
 //! (a subset); `cargo test -p tridist-benches --benches` runs each once as a smoke test.
@@ -12,25 +14,16 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use tridist::{Engine, Intersection, Query};
 use tridist_scenes::eval::Variant;
+use tridist_scenes::mesh;
 use tridist_scenes::peer::{self, Peer};
 use tridist_scenes::protocol::{self, Grouping};
 use tridist_scenes::workload::{check, Workload};
-use tridist_scenes::{families, mesh, Family};
 
 type Pairs = Vec<(tridist::Triangle<f64>, tridist::Triangle<f64>)>;
 
 fn workloads() -> Vec<(&'static str, Pairs)> {
-    let seed = 0x7121_d157;
-    let arm = mesh::carried("armadillo.off").expect("data/meshes/armadillo.off");
-    let fan = mesh::carried("fandisk_large.off").expect("data/meshes/fandisk_large.off");
-    let rnd = families::generate::<f64>(Family::Random, seed, 4096).into_iter().map(|c| (c.a, c.b)).collect();
-    vec![
-        ("random", rnd),
-        ("arm_arm_neighbouring", protocol::pairs(&arm, &arm, Grouping::Neighbouring, 4000, seed)),
-        ("arm_arm_random", protocol::pairs(&arm, &arm, Grouping::Random, 4000, seed)),
-        ("cad_cad_neighbouring", protocol::pairs(&fan, &fan, Grouping::Neighbouring, 4000, seed)),
-        ("cad_arm_random", protocol::pairs(&fan, &arm, Grouping::Random, 4000, seed)),
-    ]
+    let w = protocol::standard(4096, 0x7121_d157).expect("data/meshes");
+    w.into_iter().map(|n| (n.id, n.pairs)).collect()
 }
 
 /// Times the peer on the workload's triangle pairs after checking that it answers the same
@@ -38,6 +31,7 @@ fn workloads() -> Vec<(&'static str, Pairs)> {
 fn bench_peer<T: Peer>(
     g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
     w: &Workload<T>,
+    must_agree: bool,
 ) {
     let (ta, tb) = w.triangles();
     for lib in peer::Lib::ALL {
@@ -45,13 +39,19 @@ fn bench_peer<T: Peer>(
             eprintln!("{} not measured: {}", lib.name(), lib.missing_reason());
             continue;
         }
-        let (worst, beyond) = peer::agreement(lib, ta, tb).unwrap_or_else(|e| panic!("{e}"));
-        eprintln!(
-            "{} ({}) vs tridist: max |d - d'| / S = {worst:.2e}, {beyond} of {} pairs beyond 1e-3",
-            lib.name(),
-            T::NAME,
-            ta.len()
-        );
+        // A harness error (wrong pose, unsquared distance) disagrees everywhere: the check must
+        // pass on random pairs. Near contact a peer's own inaccuracy may exceed 1e-3 S (parry3d
+        // f32 on nearby pairs): reported, and timed all the same.
+        match peer::agreement(lib, ta, tb) {
+            Ok((worst, beyond)) => eprintln!(
+                "{} ({}) vs tridist: max |d - d'| / S = {worst:.2e}, {beyond} of {} pairs beyond 1e-3",
+                lib.name(),
+                T::NAME,
+                ta.len()
+            ),
+            Err(e) if must_agree => panic!("{e}"),
+            Err(e) => eprintln!("{e}"),
+        }
         let shapes = peer::Shapes::for_lib(lib, ta, tb);
         let mut out = vec![T::ZERO; ta.len()];
         g.bench_function(BenchmarkId::from_parameter(lib.name()), |b| b.iter(|| shapes.distances(&mut out)));
@@ -78,7 +78,7 @@ fn bench_precision<T: Peer>(c: &mut Criterion, name: &str, pairs: &Pairs) {
             });
         }
         if q == Query::TriTri {
-            bench_peer(&mut g, &w);
+            bench_peer(&mut g, &w, name == "random");
         }
         g.finish();
     }

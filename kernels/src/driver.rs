@@ -134,7 +134,7 @@ pub struct Sink<'a, T> {
     pub ok: Option<&'a mut [bool]>,
 }
 
-fn split<'a, X>(s: Option<&'a mut [X]>, at: usize) -> (Option<&'a mut [X]>, Option<&'a mut [X]>) {
+fn split<X>(s: Option<&mut [X]>, at: usize) -> (Option<&mut [X]>, Option<&mut [X]>) {
     match s {
         Some(s) => {
             let (x, y) = s.split_at_mut(at);
@@ -207,7 +207,7 @@ impl<T: Real> Lane<T> {
     /// certain, intersecting when within the tolerance of contact, else (uncertified) the
     /// answer's own zero test.
     pub(crate) fn verdict(&self) -> Intersection {
-        if !(self.d == self.d) {
+        if self.d.is_nan() {
             Intersection::Invalid
         } else if self.lo > T::ZERO {
             Intersection::Disjoint
@@ -525,7 +525,7 @@ fn rerun<T: Real, W: Real, Tk: Token>(
 /// Query-specific post-processing of a full distance answer: within-margin keeps it only
 /// when within the margin (`+inf` beyond).
 fn post<T: Real>(query: Query, margin: T, mut lane: Lane<T>) -> Lane<T> {
-    if query == Query::Within && !(lane.d <= margin * margin) && lane.d == lane.d {
+    if query == Query::Within && lane.d > margin * margin {
         lane.d = T::INFINITY;
     }
     lane

@@ -95,7 +95,7 @@ pub struct Tolerance {
 }
 
 impl Tolerance {
-    /// The default: `32 u S`. Measured: the fast stage certifies nearly every generic pair at
+    /// The default: `64 u S`. Measured: the fast stage certifies nearly every generic pair at
     /// this width (the report publishes the fractions per family), while the distance error it
     /// admits stays far below it (ACCURACY.md).
     pub const DEFAULT: Tolerance = Tolerance { scaled: 64.0, absolute: 0.0, relative: 0.0 };
@@ -334,6 +334,11 @@ impl Engine {
         self.isa
     }
 
+    /// The number of threads a large batch is split over ([`Engine::threads`]; 1 by default).
+    pub fn thread_count(&self) -> usize {
+        self.threads
+    }
+
     /// The same engine splitting each batch over `n` threads (`0`: every available core), in
     /// pieces that idle threads take from busy ones (a persistent rayon pool with the default
     /// `rayon` feature, std scoped threads without it). Batches below 2048 pairs stay on the
@@ -543,7 +548,8 @@ fn run_pieces<T: Real>(isa: Isa, threads: usize, jobs: &mut [Job<'_, T>]) {
 #[cfg(feature = "rayon")]
 fn pool(threads: usize) -> std::sync::Arc<rayon::ThreadPool> {
     use std::sync::{Arc, Mutex};
-    static POOLS: OnceLock<Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>>> = OnceLock::new();
+    type Pools = Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>>;
+    static POOLS: OnceLock<Pools> = OnceLock::new();
     let mut pools = POOLS.get_or_init(|| Mutex::new(Vec::new())).lock().unwrap_or_else(|e| e.into_inner());
     if let Some((_, p)) = pools.iter().find(|(n, _)| *n == threads) {
         return p.clone();

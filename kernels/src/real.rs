@@ -132,6 +132,8 @@ pub trait Real:
     fn to_f64(self) -> f64;
     /// Is the value finite?
     fn is_finite(self) -> bool;
+    /// Is the value NaN?
+    fn is_nan(self) -> bool;
     /// Square root (correctly rounded).
     fn sqrt(self) -> Self;
 }
@@ -158,6 +160,10 @@ macro_rules! impl_real {
             #[inline(always)]
             fn is_finite(self) -> bool {
                 <$t>::is_finite(self)
+            }
+            #[inline(always)]
+            fn is_nan(self) -> bool {
+                <$t>::is_nan(self)
             }
             #[inline(always)]
             fn sqrt(self) -> Self {

@@ -170,7 +170,7 @@ pub fn within_margin_triangle_triangle<T: Real, P: AsPoint<T>>(
 ) -> Result<Proximity<T>, Error> {
     let r = Engine::scalar().margin(margin.to_f64())?.single(Query::Within, a, b)?;
     let d = r.closest.sqdist;
-    Ok(if !(d == d) {
+    Ok(if d.is_nan() {
         Proximity::Invalid
     } else if d == T::INFINITY {
         Proximity::Beyond

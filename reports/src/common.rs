@@ -57,7 +57,7 @@ pub fn header(title: &str, command: &str, seed: u64) -> String {
     )
 }
 
-/// A one-line progress bar on stderr.
+/// A one-line progress bar on stderr (drawn only when stderr is a terminal).
 pub struct Progress {
     total: usize,
     done: usize,
@@ -71,6 +71,9 @@ impl Progress {
     /// One step done.
     pub fn step(&mut self, what: &str) {
         self.done += 1;
+        if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+            return;
+        }
         let w = 30;
         let filled = w * self.done / self.total;
         eprint!(

@@ -1,142 +1,326 @@
-//! The `tridist` command: regenerate the reports, evaluate pairs from stdin, time a file of
-//! pairs, and advise a variant for a scene.
+//! The `tridist` command: regenerate the reports, evaluate pairs from stdin with any kernel of
+//! the registry (or the exact oracle), time a file of pairs (or a peer on it), and advise a
+//! variant for a scene.
+//!
+//! Exit status: 0 success; 1 the run completed with a negative answer (malformed input lines
+//! were skipped, `advise` found no variant that meets the tolerance); 2 usage error (unknown
+//! subcommand, flag or value; printed with the usage); 3 runtime error (a file that cannot be
+//! read, an empty input, a variant this CPU lacks, a failed result check).
 
 mod common;
+mod plot;
 mod report;
-mod svg;
+mod table;
 
 use std::io::Read;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
 
-use tridist::Real;
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use tridist::{Engine, Interval, PenaltyOptions, Query, Tolerance};
 use tridist_scenes::bounds::bound;
-use tridist_scenes::eval::{parse_case_line, run, summarise, truth, Output, Query, Variant};
+use tridist_scenes::eval::{parse_case_line, prims, run_with, summarise, truth, Variant};
+use tridist_scenes::float::Float;
+use tridist_scenes::peer::{self, Lib};
 use tridist_scenes::{Case, Family};
 
-const USAGE: &str = "\
-tridist: fast triangle distance kernels, measured
-
-USAGE:
-  tridist report [--quick] [--out DIR]
-      Accuracy sweep + throughput + plots into reports/ (ACCURACY.md, THROUGHPUT.md,
-      TRADEOFF.md, *.svg, throughput.csv) and the README results section.
-  tridist eval [--kernel pqp|brute|penalty|oracle] [--variant scalar|soa|sse41|avx|avx2fma|auto]
-               [--precision f32|f64] [--exact] [--check] [--list]
-      Reads pairs from stdin (label + 18 coordinates per line; blank and # lines ignored),
-      prints `label squared_distance` per pair.
-  tridist bench --input FILE [--kernel pqp|brute] [--variant ..] [--precision ..] [--reps N]
-      Times the batch query over the pairs in FILE: queries per second.
-  tridist advise --scale S --tolerance T [--query tri_tri|tri_tri_brute|seg_seg|point_tri]
-      Picks the fastest variant whose declared error bound meets an absolute distance
-      tolerance T at coordinate magnitude S.
-";
-
-/// Parsed `--flag value` options.
-struct Opts {
-    kv: Vec<(String, Option<String>)>,
+/// Fast triangle distance kernels, measured: how fast, and how wrong, on every kind of input.
+#[derive(Parser, Debug)]
+#[command(name = "tridist", version, after_help = EXIT_CODES)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
 }
 
-impl Opts {
-    fn parse(args: &[String], flags: &[&str], valued: &[&str]) -> Result<Opts, String> {
-        let mut kv = Vec::new();
-        let mut i = 0;
-        while i < args.len() {
-            let a = &args[i];
-            if flags.contains(&a.as_str()) {
-                kv.push((a.clone(), None));
-            } else if valued.contains(&a.as_str()) {
-                let v = args.get(i + 1).ok_or_else(|| format!("{a} needs a value"))?;
-                kv.push((a.clone(), Some(v.clone())));
-                i += 1;
-            } else {
-                return Err(format!("unknown argument {a:?}"));
-            }
-            i += 1;
+const EXIT_CODES: &str = "Exit status: 0 success; 1 completed with a negative answer (malformed input lines skipped, no variant meets the tolerance); 2 usage error; 3 runtime error (unreadable file, empty input, unavailable variant, failed result check).";
+
+#[derive(Subcommand, Debug)]
+enum Cmd {
+    /// Regenerate the accuracy and throughput reports and plots.
+    ///
+    /// Accuracy sweep against the exact oracle, throughput (with the peers on the same pairs)
+    /// and plots into reports/ (ACCURACY.md, THROUGHPUT.md, TRADEOFF.md, *.svg,
+    /// throughput.csv) and the README's results section.
+    Report {
+        /// Fewer cases and pairs, shorter timing (about a minute).
+        #[arg(long)]
+        quick: bool,
+        /// Write here instead of reports/ (the README is then left alone).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Cases per query, family and precision [default: 1500, --quick 150].
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        cases: Option<u32>,
+        /// Pairs per throughput workload [default: 20000, --quick 4000].
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        pairs: Option<u32>,
+        /// Time budget per throughput measurement in milliseconds [default: 400, --quick 60].
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        budget_ms: Option<u32>,
+    },
+    /// Answer the pairs on stdin with any kernel, or the exact oracle.
+    ///
+    /// Reads pairs from stdin (a label and 18 coordinates per line: triangle A then B; blank
+    /// and # lines ignored) and prints `label answer` per pair. Segment queries use the first
+    /// edge (vertices 0-1) of each triangle, point-triangle vertex 0 of B against A. Answers:
+    /// the squared distance (shortest round-trip decimal; within-margin prints `inf` beyond
+    /// the margin), or `intersecting` / `disjoint` / `invalid`.
+    Eval(EvalArgs),
+    /// Time a kernel (or a peer) on the pairs in a file.
+    ///
+    /// Times a batch query over the pairs in a file (same format as eval): queries per second,
+    /// the median of repeated passes, and where the pairs went.
+    Bench(BenchArgs),
+    /// Pick the fastest variant that meets a distance tolerance.
+    ///
+    /// Picks the fastest variant whose declared error bound (the bound table's E, times u S)
+    /// meets an absolute distance tolerance at coordinate magnitude S, from throughput.csv.
+    Advise {
+        /// Largest absolute coordinate S of the scene.
+        #[arg(long, value_parser = positive)]
+        scale: f64,
+        /// Largest acceptable distance error, in the scene's units.
+        #[arg(long, value_parser = positive)]
+        tolerance: f64,
+        /// The query (registry name).
+        #[arg(long, default_value = "tri_tri", value_parser = parse_query)]
+        query: Query,
+        /// The throughput table to read [default: reports/throughput.csv].
+        #[arg(long, value_name = "FILE")]
+        csv: Option<PathBuf>,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
+enum Prec {
+    F32,
+    F64,
+}
+
+#[derive(Args, Debug)]
+struct KernelArgs {
+    /// Query of the registry (tri_tri, tri_tri_brute, seg_seg, point_tri, intersect, within,
+    /// penalty; `pqp` and `brute` name the triangle-triangle ones) or `oracle` (the exact
+    /// answer of --query).
+    #[arg(long, default_value = "tri_tri", value_parser = parse_kernel)]
+    kernel: Kernel,
+    /// The query whose exact answer `--kernel oracle` prints.
+    #[arg(long, default_value = "tri_tri", value_parser = parse_query)]
+    query: Query,
+    /// Instruction set and layout.
+    #[arg(long, default_value = "auto", value_parser = parse_variant)]
+    variant: Variant,
+    /// Input and working precision.
+    #[arg(long, value_enum, default_value = "f64")]
+    precision: Prec,
+    /// Certified-interval tolerance: `default` (64 u S), `exact`, `K` or `scaled:K` (K u S),
+    /// `abs:X`, `rel:R`, or a comma-separated combination (the widest applies).
+    #[arg(long, default_value = "default", value_parser = parse_tolerance)]
+    tolerance: Tolerance,
+    /// Threads (0: every core).
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
+    /// Margin of the within-margin query (required for it).
+    #[arg(long, value_parser = non_negative)]
+    margin: Option<f64>,
+    /// Penalty method: iteration limit.
+    #[arg(long, value_name = "N")]
+    penalty_iters: Option<u32>,
+    /// Penalty method: stop when the step is below this times S.
+    #[arg(long, value_name = "X", value_parser = positive)]
+    penalty_tol: Option<f64>,
+}
+
+#[derive(Args, Debug)]
+struct EvalArgs {
+    #[command(flatten)]
+    k: KernelArgs,
+    /// With `--kernel oracle`: print the exact squared distance as a fraction.
+    #[arg(long)]
+    exact: bool,
+    /// Append the certified interval `[lo, hi]` of the distance (not squared).
+    #[arg(long)]
+    intervals: bool,
+    /// Append the excess error E against the exact oracle (verdicts: ok / misjudged).
+    #[arg(long)]
+    check: bool,
+    /// List every kernel, variant and precision this CPU runs, then exit.
+    #[arg(long)]
+    list: bool,
+}
+
+#[derive(Args, Debug)]
+struct BenchArgs {
+    /// The pairs to time.
+    #[arg(long, value_name = "FILE")]
+    input: PathBuf,
+    #[command(flatten)]
+    k: KernelArgs,
+    /// Timed passes (after one warm-up).
+    #[arg(long, default_value_t = 11, value_parser = clap::value_parser!(u32).range(1..))]
+    reps: u32,
+    /// Time a peer's triangle-triangle distance on the same pairs instead (parry3d, fcl).
+    #[arg(long, value_parser = parse_peer)]
+    peer: Option<Lib>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kernel {
+    Query(Query),
+    Oracle,
+}
+
+fn parse_kernel(s: &str) -> Result<Kernel, String> {
+    match s {
+        "oracle" => Ok(Kernel::Oracle),
+        "pqp" => Ok(Kernel::Query(Query::TriTri)),
+        "brute" => Ok(Kernel::Query(Query::TriTriBrute)),
+        _ => parse_query(s).map(Kernel::Query),
+    }
+}
+
+fn parse_query(s: &str) -> Result<Query, String> {
+    Query::parse(s).ok_or_else(|| {
+        let names: Vec<&str> = Query::ALL.iter().map(|q| q.name()).collect();
+        format!("unknown query (one of {})", names.join(", "))
+    })
+}
+
+fn parse_variant(s: &str) -> Result<Variant, String> {
+    Variant::parse(s).ok_or_else(|| "unknown variant (scalar, soa, sse41, avx, avx2fma, auto)".into())
+}
+
+fn parse_peer(s: &str) -> Result<Lib, String> {
+    Lib::ALL.into_iter().find(|l| l.name() == s).ok_or_else(|| "unknown peer (parry3d, fcl)".into())
+}
+
+fn positive(s: &str) -> Result<f64, String> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .ok_or_else(|| "needs a positive finite number".into())
+}
+
+fn non_negative(s: &str) -> Result<f64, String> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite() && *x >= 0.0)
+        .ok_or_else(|| "needs a finite number >= 0".into())
+}
+
+fn parse_tolerance(s: &str) -> Result<Tolerance, String> {
+    match s {
+        "default" => return Ok(Tolerance::DEFAULT),
+        "exact" => return Ok(Tolerance::EXACT),
+        _ => {}
+    }
+    let mut t = Tolerance::EXACT;
+    for part in s.split(',') {
+        let (k, v) = part.split_once(':').unwrap_or(("scaled", part));
+        let x = non_negative(v).map_err(|e| format!("{part:?}: {e}"))?;
+        match k {
+            "scaled" => t.scaled = x,
+            "abs" => t.absolute = x,
+            "rel" => t.relative = x,
+            _ => return Err(format!("{part:?}: expected scaled:K, abs:X or rel:R")),
         }
-        Ok(Opts { kv })
     }
-    fn flag(&self, k: &str) -> bool {
-        self.kv.iter().any(|(a, _)| a == k)
-    }
-    fn get(&self, k: &str) -> Option<&str> {
-        self.kv.iter().rev().find(|(a, _)| a == k).and_then(|(_, v)| v.as_deref())
+    Ok(t)
+}
+
+/// A runtime failure (exit status 3).
+struct Fail(String);
+
+impl<E: std::fmt::Display> From<E> for Fail {
+    fn from(e: E) -> Self {
+        Fail(e.to_string())
     }
 }
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let res = match args.first().map(String::as_str) {
-        Some("report") => cmd_report(&args[1..]),
-        Some("eval") => cmd_eval(&args[1..]),
-        Some("bench") => cmd_bench(&args[1..]),
-        Some("advise") => cmd_advise(&args[1..]),
-        Some("help" | "--help" | "-h") => {
-            print!("{USAGE}");
-            Ok(ExitCode::SUCCESS)
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(e.exit_code().clamp(0, 255) as u8);
         }
-        Some(other) => Err(format!("unknown command {other:?}")),
-        None => Err("no command given".into()),
+    };
+    let res = match cli.cmd {
+        Cmd::Report { quick, out, cases, pairs, budget_ms } => {
+            cmd_report(quick, out, cases, pairs, budget_ms)
+        }
+        Cmd::Eval(a) => cmd_eval(&a),
+        Cmd::Bench(a) => cmd_bench(&a),
+        Cmd::Advise { scale, tolerance, query, csv } => cmd_advise(scale, tolerance, query, csv),
     };
     match res {
         Ok(c) => c,
-        Err(e) => {
-            eprintln!("tridist: {e}\n\n{USAGE}");
-            ExitCode::from(2)
+        Err(Fail(e)) => {
+            eprintln!("tridist: error: {e}");
+            ExitCode::from(3)
         }
     }
 }
 
-fn cmd_report(args: &[String]) -> Result<ExitCode, String> {
-    let o = Opts::parse(args, &["--quick"], &["--out"])?;
-    let quick = o.flag("--quick");
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let out_dir = o.get("--out").map(std::path::PathBuf::from).unwrap_or_else(|| root.join("reports"));
+/// The repository root (the reports' home).
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+}
+
+fn cmd_report(
+    quick: bool,
+    out: Option<PathBuf>,
+    cases: Option<u32>,
+    pairs: Option<u32>,
+    budget_ms: Option<u32>,
+) -> Result<ExitCode, Fail> {
+    let pick = |x: Option<u32>, q: u32, full: u32| x.unwrap_or(if quick { q } else { full });
+    let mut command =
+        format!("cargo run --release -p tridist-reports -- report{}", if quick { " --quick" } else { "" });
+    for (k, v) in [("--cases", cases), ("--pairs", pairs), ("--budget-ms", budget_ms)] {
+        if let Some(v) = v {
+            command.push_str(&format!(" {k} {v}"));
+        }
+    }
     let s = report::Settings {
-        cases: if quick { 150 } else { 1500 },
-        pairs: if quick { 2000 } else { 10_000 },
-        budget: Duration::from_millis(if quick { 40 } else { 300 }),
-        command: format!(
-            "cargo run --release -p tridist-reports -- report{}",
-            if quick { " --quick" } else { "" }
-        ),
-        readme: if o.get("--out").is_none() { Some(root.join("README.md")) } else { None },
-        out_dir,
+        cases: pick(cases, 150, 1500) as usize,
+        pairs: pick(pairs, 4000, 20_000) as usize,
+        budget: Duration::from_millis(pick(budget_ms, 60, 400).into()),
+        command,
+        readme: out.is_none().then(|| root().join("README.md")),
+        out_dir: out.unwrap_or_else(|| root().join("reports")),
     };
-    report::run_report(&s)?;
-    eprintln!("wrote {}", s.out_dir.display());
+    report::run_report(&s).map_err(Fail)?;
+    eprintln!("wrote the reports to {}", s.out_dir.display());
     Ok(ExitCode::SUCCESS)
 }
 
-#[derive(Clone, Copy, PartialEq)]
-enum Kernel {
-    Pqp,
-    Brute,
-    Oracle,
-}
-
-fn kernel_of(o: &Opts) -> Result<Kernel, String> {
-    match o.get("--kernel").unwrap_or("pqp") {
-        "pqp" => Ok(Kernel::Pqp),
-        "brute" => Ok(Kernel::Brute),
-        "oracle" => Ok(Kernel::Oracle),
-        "penalty" => Err("kernel penalty is not implemented yet (see the penalty-method issue)".into()),
-        k => Err(format!("unknown kernel {k:?} (pqp, brute, penalty, oracle)")),
+/// The engine of the kernel arguments.
+fn engine<T: Float>(k: &KernelArgs, q: Query) -> Result<Engine, Fail> {
+    if !k.variant.available() {
+        return Err(Fail(format!("variant {} is not available on this CPU", k.variant.name())));
     }
-}
-
-fn variant_of(o: &Opts) -> Result<Variant, String> {
-    let v = o.get("--variant").unwrap_or("auto");
-    let var = Variant::parse(v)
-        .ok_or_else(|| format!("unknown variant {v:?} (scalar, soa, sse41, avx, avx2fma, auto)"))?;
-    if !var.available() {
-        return Err(format!("variant {v} is not available on this CPU"));
+    let mut e = Engine::new(k.variant.isa())?.threads(k.threads).tolerance(k.tolerance)?;
+    if q == Query::Within {
+        let m = k.margin.ok_or_else(|| Fail("the within query needs --margin".into()))?;
+        e = e.margin(m)?;
     }
-    Ok(var)
+    if q == Query::Penalty {
+        let mut o = PenaltyOptions::<T>::default();
+        if let Some(n) = k.penalty_iters {
+            o.max_iter = n;
+        }
+        if let Some(x) = k.penalty_tol {
+            o.tol = T::from_f64(x);
+        }
+        e = e.penalty(&o)?;
+    }
+    Ok(e)
 }
 
-/// Reads case lines; returns parsed cases (with their line numbers) and the parse errors.
-fn read_cases<T: Real>(text: &str) -> (Vec<(usize, Case<T>)>, Vec<String>) {
+/// Reads case lines; returns the parsed cases and the parse errors (with line numbers).
+fn read_cases<T: Float>(text: &str) -> (Vec<Case<T>>, Vec<String>) {
     let mut cases = Vec::new();
     let mut errors = Vec::new();
     for (i, line) in text.lines().enumerate() {
@@ -145,225 +329,309 @@ fn read_cases<T: Real>(text: &str) -> (Vec<(usize, Case<T>)>, Vec<String>) {
             continue;
         }
         match parse_case_line::<T>(l) {
-            Ok(c) => cases.push((i + 1, c)),
+            Ok(c) => cases.push(c),
             Err(e) => errors.push(format!("line {}: {e}", i + 1)),
         }
     }
     (cases, errors)
 }
 
-fn cmd_eval(args: &[String]) -> Result<ExitCode, String> {
-    let o = Opts::parse(args, &["--exact", "--check", "--list"], &["--kernel", "--variant", "--precision"])?;
-    if o.flag("--list") {
-        for k in ["pqp", "brute"] {
+fn cmd_eval(a: &EvalArgs) -> Result<ExitCode, Fail> {
+    if a.list {
+        for &q in Query::ALL {
             for v in Variant::ALL.iter().filter(|v| v.available()) {
                 for p in ["f32", "f64"] {
-                    println!("{k} {} {p}", v.name());
+                    println!("{} {} {p}", q.name(), v.name());
                 }
             }
         }
         println!("oracle exact f32\noracle exact f64");
         return Ok(ExitCode::SUCCESS);
     }
-    let kernel = kernel_of(&o)?;
-    let variant = variant_of(&o)?;
-    if o.flag("--exact") && kernel != Kernel::Oracle {
-        return Err("--exact needs --kernel oracle".into());
+    if a.exact && a.k.kernel != Kernel::Oracle {
+        return Err(Fail("--exact prints the oracle's fraction: use it with --kernel oracle".into()));
     }
     let mut text = String::new();
-    std::io::stdin().read_to_string(&mut text).map_err(|e| format!("reading stdin: {e}"))?;
-    match o.get("--precision").unwrap_or("f64") {
-        "f32" => eval_as::<f32>(&text, kernel, variant, o.flag("--exact"), o.flag("--check")),
-        "f64" => eval_as::<f64>(&text, kernel, variant, o.flag("--exact"), o.flag("--check")),
-        p => Err(format!("unknown precision {p:?} (f32, f64)")),
+    std::io::stdin().read_to_string(&mut text).map_err(|e| Fail(format!("reading stdin: {e}")))?;
+    match a.k.precision {
+        Prec::F32 => eval_as::<f32>(&text, a),
+        Prec::F64 => eval_as::<f64>(&text, a),
     }
 }
 
-fn eval_as<T: Real>(
-    text: &str,
-    kernel: Kernel,
-    variant: Variant,
-    exact: bool,
-    check: bool,
-) -> Result<ExitCode, String> {
+fn verdict_word(d2_is_zero: bool) -> &'static str {
+    if d2_is_zero {
+        "intersecting"
+    } else {
+        "disjoint"
+    }
+}
+
+fn eval_as<T: Float>(text: &str, a: &EvalArgs) -> Result<ExitCode, Fail> {
     let (cases, errors) = read_cases::<T>(text);
     for e in &errors {
         eprintln!("tridist eval: {e}");
     }
-    let cs: Vec<Case<T>> = cases.iter().map(|(_, c)| c.clone()).collect();
-    let q = if kernel == Kernel::Brute { Query::TriTriBrute } else { Query::TriTri };
-    let out =
-        if kernel == Kernel::Oracle { None } else { Some(run(q, variant, &cs).map_err(|e| e.to_string())?) };
-    for (i, c) in cs.iter().enumerate() {
-        let finite = c.a.iter().chain(c.b.iter()).flatten().all(|x| x.is_finite());
-        let mut line = c.label.clone();
-        match &out {
-            Some(o) => line.push_str(&format!(" {:?}", o.d[i])),
-            None => {
-                let a = c.a.map(|p| p.map(|x| x.to_f64()));
-                let b = c.b.map(|p| p.map(|x| x.to_f64()));
-                match tridist_oracle::sqdist_triangle_triangle(&a, &b) {
-                    Ok(d) if exact => line.push_str(&format!(" {}/{}", d.numer(), d.denom())),
-                    Ok(d) => {
-                        let r = if T::NAME == "f32" {
-                            tridist_oracle::round::to_f32(&d) as f64
-                        } else {
-                            tridist_oracle::round::to_f64(&d)
-                        };
-                        line.push_str(&format!(
-                            " {}",
-                            if T::NAME == "f32" { format!("{:?}", r as f32) } else { format!("{r:?}") }
-                        ));
-                    }
-                    Err(e) => line.push_str(&format!(" error: {e}")),
-                }
-            }
-        }
-        if check && finite {
-            if let Some(o) = &out {
-                let one = vec![c.clone()];
-                let t = truth(q, &one);
-                let single = Output { d: vec![o.d[i]], p: vec![o.p[i]], q: vec![o.q[i]] };
-                let (st, _) = summarise(q, &one, &t, &single);
-                line.push_str(&format!(" E={}", st.max_excess));
-            } else {
-                line.push_str(" E=0");
-            }
-        }
-        println!("{line}");
+    let q = match a.k.kernel {
+        Kernel::Query(q) => q,
+        Kernel::Oracle => a.k.query,
+    };
+    let e = engine::<T>(&a.k, q)?;
+    let lines = if a.k.kernel == Kernel::Oracle {
+        oracle_lines(q, &cases, a)?
+    } else {
+        kernel_lines(e, q, &cases, a)?
+    };
+    for (c, l) in cases.iter().zip(lines) {
+        println!("{} {l}", c.label);
     }
     Ok(if errors.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
-fn cmd_bench(args: &[String]) -> Result<ExitCode, String> {
-    let o = Opts::parse(args, &[], &["--input", "--kernel", "--variant", "--precision", "--reps"])?;
-    let path = o.get("--input").ok_or("--input FILE is required")?;
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
-    let kernel = kernel_of(&o)?;
-    if kernel == Kernel::Oracle {
-        return Err("bench times the kernels; use --kernel pqp or brute".into());
+fn oracle_lines<T: Float>(q: Query, cases: &[Case<T>], a: &EvalArgs) -> Result<Vec<String>, Fail> {
+    let pr = tridist_scenes::eval::prec::<T>();
+    let mut out = Vec::new();
+    for c in cases {
+        let finite = c.a.iter().chain(c.b.iter()).flatten().all(|x| x.is_finite());
+        if !finite {
+            out.push("error: non-finite input".into());
+            continue;
+        }
+        let t = &truth(q, std::slice::from_ref(c))[0];
+        let line = if q.is_verdict() {
+            verdict_word(t.d2 == 0).to_string()
+        } else if a.exact {
+            format!("{}/{}", t.d2.numer(), t.d2.denom())
+        } else {
+            let r = T::from_f64(pr.round(&t.d2));
+            if q == Query::Within
+                && a.k.margin.is_some_and(|m| t.d2 > rug::Rational::from_f64(m * m).unwrap_or_default())
+            {
+                "inf".to_string()
+            } else {
+                format!("{r:?}")
+            }
+        };
+        out.push(line);
     }
-    let variant = variant_of(&o)?;
-    let reps: usize = match o.get("--reps") {
-        None => 11,
-        Some(s) => s
-            .parse()
-            .ok()
-            .filter(|&n| n > 0)
-            .ok_or_else(|| format!("--reps needs a positive integer, got {s:?}"))?,
-    };
-    match o.get("--precision").unwrap_or("f64") {
-        "f32" => bench_as::<f32>(&text, kernel, variant, reps),
-        "f64" => bench_as::<f64>(&text, kernel, variant, reps),
-        p => Err(format!("unknown precision {p:?} (f32, f64)")),
+    Ok(out)
+}
+
+fn kernel_lines<T: Float>(e: Engine, q: Query, cases: &[Case<T>], a: &EvalArgs) -> Result<Vec<String>, Fail> {
+    let out =
+        run_with(e, q, a.k.variant, cases, a.k.margin.map(|m| vec![T::from_f64(m); cases.len()]).as_deref())?;
+    let judged = a.check.then(|| {
+        let tr = truth(q, cases);
+        let b = bound(q, a.k.variant, T::NAME, Family::Random);
+        let ms = a.k.margin.map(|m| vec![T::from_f64(m); cases.len()]);
+        summarise(q, cases, &tr, &out, b.allow, ms.as_deref()).1
+    });
+    let mut lines = Vec::new();
+    for i in 0..cases.len() {
+        let mut l = if q.is_verdict() {
+            match out.verdict[i].as_bool() {
+                Some(v) => verdict_word(v).to_string(),
+                None => "invalid".to_string(),
+            }
+        } else {
+            let d = out.d[i];
+            if d == T::INFINITY {
+                "inf".to_string()
+            } else {
+                format!("{d:?}")
+            }
+        };
+        if a.intervals && !q.is_verdict() {
+            let Interval { lo, hi } = out.iv[i];
+            l.push_str(&format!(" [{lo:?}, {hi:?}]"));
+        }
+        if let Some(js) = &judged {
+            let finite = cases[i].a.iter().chain(cases[i].b.iter()).flatten().all(|x| x.is_finite());
+            let j = &js[i];
+            if !finite {
+                l.push_str(" E=-");
+            } else if q.is_verdict() {
+                l.push_str(if j.misjudged { " misjudged" } else { " ok" });
+            } else {
+                l.push_str(&format!(" E={}", j.excess));
+            }
+        }
+        lines.push(l);
+    }
+    Ok(lines)
+}
+
+fn cmd_bench(a: &BenchArgs) -> Result<ExitCode, Fail> {
+    let text = std::fs::read_to_string(&a.input).map_err(|e| Fail(format!("{}: {e}", a.input.display())))?;
+    if a.k.kernel == Kernel::Oracle {
+        return Err(Fail("bench times the kernels, not the oracle".into()));
+    }
+    match a.k.precision {
+        Prec::F32 => bench_as::<f32>(&text, a),
+        Prec::F64 => bench_as::<f64>(&text, a),
     }
 }
 
-fn bench_as<T: Real>(text: &str, kernel: Kernel, variant: Variant, reps: usize) -> Result<ExitCode, String> {
+fn bench_as<T: peer::Peer>(text: &str, a: &BenchArgs) -> Result<ExitCode, Fail> {
     let (cases, errors) = read_cases::<T>(text);
     if !errors.is_empty() {
-        return Err(format!("{} malformed line(s), first: {}", errors.len(), errors[0]));
+        return Err(Fail(format!("{} malformed line(s), first: {}", errors.len(), errors[0])));
     }
     if cases.is_empty() {
-        return Err("no pairs in the input".into());
+        return Err(Fail("no pairs in the input".into()));
     }
-    let a: Vec<_> = cases.iter().map(|(_, c)| c.a).collect();
-    let b: Vec<_> = cases.iter().map(|(_, c)| c.b).collect();
-    let (ba, bb) = (tridist::TriangleBatch::from_slice(&a), tridist::TriangleBatch::from_slice(&b));
-    let e = tridist::Engine::new(variant.isa()).map_err(|e| e.to_string())?;
-    let mut out = vec![T::ZERO; a.len()];
-    let aos = variant == Variant::Scalar;
-    let mut pass = || -> Result<(), tridist::Error> {
-        match (kernel == Kernel::Brute, aos) {
-            (false, true) => e.sqdist_triangle_triangle(&a, &b, &mut out),
-            (false, false) => e.sqdist_triangle_triangle(&ba, &bb, &mut out),
-            (true, true) => e.sqdist_triangle_triangle_brute(&a, &b, &mut out),
-            (true, false) => e.sqdist_triangle_triangle_brute(&ba, &bb, &mut out),
-        }
+    let n = cases.len();
+    let time = |f: &mut dyn FnMut()| -> f64 {
+        f();
+        let mut t: Vec<f64> = (0..a.reps)
+            .map(|_| {
+                let s = std::time::Instant::now();
+                f();
+                s.elapsed().as_secs_f64()
+            })
+            .collect();
+        t.sort_by(|x, y| x.total_cmp(y));
+        t[t.len() / 2]
     };
-    pass().map_err(|e| e.to_string())?;
-    let mut times = Vec::with_capacity(reps);
-    for _ in 0..reps {
-        let t = std::time::Instant::now();
-        pass().map_err(|e| e.to_string())?;
-        times.push(t.elapsed().as_secs_f64());
+    if let Some(lib) = a.peer {
+        if !lib.available() {
+            return Err(Fail(format!("{} is not built in: {}", lib.name(), lib.missing_reason())));
+        }
+        let ta: Vec<_> = cases.iter().map(|c| c.a).collect();
+        let tb: Vec<_> = cases.iter().map(|c| c.b).collect();
+        let (worst, beyond) = peer::agreement(lib, &ta, &tb).map_err(Fail)?;
+        let shapes = peer::Shapes::for_lib(lib, &ta, &tb);
+        let mut out = vec![T::ZERO; n];
+        let secs = time(&mut || shapes.distances(&mut out));
+        println!(
+            "{n} pairs, {} {}: {:.0} queries/s (median of {} passes after one warm-up)",
+            lib.name(),
+            T::NAME,
+            n as f64 / secs,
+            a.reps
+        );
+        println!("agreement with tridist: max |d - d'| / S = {worst:.1e}, {beyond} pairs beyond 1e-3");
+        return Ok(ExitCode::SUCCESS);
     }
-    times.sort_by(|x, y| x.total_cmp(y));
-    let med = times[times.len() / 2];
+    let Kernel::Query(q) = a.k.kernel else { unreachable!("checked by cmd_bench") };
+    let e = engine::<T>(&a.k, q)?;
+    let aos = a.k.variant == Variant::Scalar;
+    let (ta, tb): (Vec<_>, Vec<_>) = cases.iter().map(|c| prims(q, c)).unzip();
+    // every query reads its primitives from the first K points of each padded triple (prims)
+    let (secs, counts) = match q.arity() {
+        (2, 2) => {
+            let sa: Vec<[tridist::Point<T>; 2]> = ta.iter().map(|t| [t[0], t[1]]).collect();
+            let sb: Vec<[tridist::Point<T>; 2]> = tb.iter().map(|t| [t[0], t[1]]).collect();
+            time_batch(e, q, &sa, &sb, aos, &time)?
+        }
+        (1, 3) => {
+            let sa: Vec<[tridist::Point<T>; 1]> = ta.iter().map(|t| [t[0]]).collect();
+            time_batch(e, q, &sa, &tb, aos, &time)?
+        }
+        _ => time_batch(e, q, &ta, &tb, aos, &time)?,
+    };
+    let c = counts;
     println!(
-        "{} pairs, {} {} {}: {:.0} queries/s (median of {reps} passes after one warm-up)",
-        a.len(),
-        if kernel == Kernel::Brute { "brute" } else { "pqp" },
-        variant.name(),
+        "{n} pairs, {} {} {}: {:.0} queries/s (median of {} passes after one warm-up, {} thread(s))",
+        q.name(),
+        a.k.variant.name(),
         T::NAME,
-        a.len() as f64 / med
+        n as f64 / secs,
+        a.reps,
+        e.thread_count()
+    );
+    println!(
+        "paths of one pass: prefiltered {}, delegated {}, recertified {}, compacted {}, widened to f64 {}, exact {}, uncertified {}",
+        c.prefiltered, c.delegated, c.recertified, c.compacted, c.widened, c.exact, c.uncertified
     );
     Ok(ExitCode::SUCCESS)
 }
 
-fn cmd_advise(args: &[String]) -> Result<ExitCode, String> {
-    let o = Opts::parse(args, &[], &["--scale", "--tolerance", "--query", "--csv"])?;
-    let num = |k: &str| -> Result<f64, String> {
-        let s = o.get(k).ok_or_else(|| format!("{k} is required"))?;
-        s.parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite() && *x > 0.0)
-            .ok_or_else(|| format!("{k} needs a positive finite number, got {s:?}"))
-    };
-    let scale = num("--scale")?;
-    let tol = num("--tolerance")?;
-    let qn = o.get("--query").unwrap_or("tri_tri");
-    let query =
-        Query::parse(qn).filter(|q| *q != Query::Intersect).ok_or_else(|| format!("unknown query {qn:?}"))?;
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let csv_path =
-        o.get("--csv").map(std::path::PathBuf::from).unwrap_or_else(|| root.join("reports/throughput.csv"));
-    let csv = std::fs::read_to_string(&csv_path)
-        .map_err(|e| format!("{}: {e} (run `tridist report` first)", csv_path.display()))?;
-    let tq = match query {
-        Query::SegSeg => "seg_seg",
-        Query::PointTri => "tri_point",
-        Query::TriTriBrute => "tri_tri_brute",
-        _ => "tri_tri",
-    };
+/// Times one batch layout: SoA batches, or the slices themselves for the scalar AoS variant.
+fn time_batch<T: Float, const KA: usize, const KB: usize>(
+    e: Engine,
+    q: Query,
+    a: &[[tridist::Point<T>; KA]],
+    b: &[[tridist::Point<T>; KB]],
+    aos: bool,
+    time: &dyn Fn(&mut dyn FnMut()) -> f64,
+) -> Result<(f64, tridist::PathCounts), Fail> {
+    let n = a.len();
+    let (ba, bb) = (tridist::Batch::from_slice(a), tridist::Batch::from_slice(b));
+    let (mut d, mut v) = (vec![T::ZERO; n], vec![tridist::Intersection::Invalid; n]);
+    let mut res = Ok(tridist::PathCounts::default());
+    let secs = time(&mut || {
+        let o = if q.is_verdict() {
+            tridist::Outputs::new().verdicts(&mut v)
+        } else {
+            tridist::Outputs::new().sqdist(&mut d)
+        };
+        res = if aos {
+            e.run(q, tridist::Prims::Aos(a), tridist::Prims::Aos(b), o)
+        } else {
+            e.run(q, &ba, &bb, o)
+        };
+    });
+    Ok((secs, res?))
+}
+
+fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Result<ExitCode, Fail> {
+    let path = csv.unwrap_or_else(|| root().join("reports/throughput.csv"));
+    let rows = table::read(&path).map_err(|e| Fail(format!("{e} (run `tridist report` first)")))?;
+    struct Opt {
+        v: Variant,
+        p: &'static str,
+        e: f64,
+        err: f64,
+        qps: Option<f64>,
+        fits: bool,
+    }
     let mut options = Vec::new();
-    for v in Variant::ALL.iter().filter(|v| v.available()) {
+    for v in Variant::ALL.into_iter().filter(|v| v.available()) {
         for (p, u, max_s, min_d) in
             [("f32", 2f64.powi(-24), 5e18, 3.7e-23), ("f64", 2f64.powi(-53), 5e153, 1.5e-162)]
         {
-            let e = Family::ALL.iter().map(|&f| bound(query, *v, p, f).max_excess).fold(0.0, f64::max);
+            let e = Family::ALL.iter().map(|&f| bound(query, v, p, f).max_excess).fold(0.0, f64::max);
             let err = e * u * scale;
-            let qps = csv
-                .lines()
-                .filter_map(|l| {
-                    let c: Vec<&str> = l.split(',').collect();
-                    (c.len() == 5
-                        && c[0] == "random unit cube"
-                        && c[1] == tq
-                        && c[2] == v.name()
-                        && c[3] == p)
-                        .then(|| c[4].parse::<f64>().ok())
-                        .flatten()
+            let qps = rows
+                .iter()
+                .find(|r| {
+                    r.workload == "random"
+                        && r.query == query.name()
+                        && r.implementation == v.name()
+                        && r.precision == p
+                        && r.threads == 1
+                        && r.tolerance == "default"
                 })
-                .next();
+                .map(|r| r.qps);
             let fits = err <= tol && scale <= max_s && tol >= min_d;
-            options.push((v.name(), p, e, err, qps, fits));
+            options.push(Opt { v, p, e, err, qps, fits });
         }
+    }
+    for o in &options {
+        println!(
+            "{:8} {}: declared E <= {} -> distance error <= {:.3e} at S = {scale:e}; {} queries/s; {}",
+            o.v.name(),
+            o.p,
+            o.e,
+            o.err,
+            o.qps.map(|q| format!("{q:.0}")).unwrap_or_else(|| "?".into()),
+            if o.fits { "meets the tolerance" } else { "does not meet it" }
+        );
     }
     let best = options
         .iter()
-        .filter(|o| o.5 && o.4.is_some())
-        .max_by(|a, b| a.4.unwrap_or(0.0).total_cmp(&b.4.unwrap_or(0.0)));
-    for (v, p, e, err, qps, fits) in &options {
-        println!(
-            "{v:8} {p}: declared E <= {e} -> distance error <= {err:.3e} at S = {scale:e}; {} queries/s; {}",
-            qps.map(|q| format!("{q:.0}")).unwrap_or_else(|| "?".into()),
-            if *fits { "meets the tolerance" } else { "does not meet it" }
-        );
-    }
+        .filter(|o| o.fits && o.qps.is_some())
+        .max_by(|a, b| a.qps.unwrap_or(0.0).total_cmp(&b.qps.unwrap_or(0.0)));
     match best {
-        Some((v, p, _, err, qps, _)) => {
-            println!("\nadvice: {v} {p} ({:.0} queries/s on random pairs): its declared bound gives at most {err:.3e} <= {tol:e}.", qps.unwrap_or(0.0));
+        Some(o) => {
+            println!(
+                "\nadvice: {} {} ({:.0} queries/s on random pairs): its declared bound gives at most {:.3e} <= {tol:e}.",
+                o.v.name(),
+                o.p,
+                o.qps.unwrap_or(0.0),
+                o.err
+            );
             Ok(ExitCode::SUCCESS)
         }
         None => {

@@ -1,5 +1,7 @@
-//! The `tridist` command end to end: output format, malformed input, non-finite input, bad
-//! arguments, bench and advise.
+//! The `tridist` command end to end, as a user runs it: every kernel of the registry through
+//! `eval` and `bench` (checked against the exact oracle), the output format, malformed and
+//! non-finite input, bad arguments and their exit status, `advise` on a CSV, and a small
+//! `report` whose CSV is parsed back and whose plots are well-formed SVG.
 
 use std::io::Write;
 use std::process::{Command, Stdio};
@@ -21,7 +23,23 @@ fn tridist(args: &[&str], stdin: &str) -> (i32, String, String) {
     )
 }
 
+fn tmp(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("tridist-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
 const PAIRS: &str = "# comment\n\nfar 0 0 0 1 0 0 0 1 0 0 0 2 1 0 2 0 1 2\npierce 0 0 0 1 0 0 0 1 0 0.2 0.2 -1 0.2 0.2 1 5 5 0.5\n";
+
+/// Random-ish pairs of every kind: apart, piercing, touching, parallel, far from the origin.
+fn mixed_pairs() -> String {
+    let mut s = String::from(PAIRS);
+    s.push_str("touch 0 0 0 1 0 0 0 1 0 1 0 0 2 0 0 1 1 0\n");
+    s.push_str("parallel 0 0 0 1 0 0 0 1 0 0 0 0.5 1 0 0.5 0 1 0.5\n");
+    s.push_str("far 1e6 1e6 1e6 1000001 1e6 1e6 1e6 1000001 1e6 1e6 1e6 1000000.25 1000001 1e6 1000000.25 1e6 1000001 1000000.25\n");
+    s.push_str("skew 0.1 0.7 0.3 0.9 0.2 0.5 0.4 0.4 0.9 0.8 0.8 0.1 0.3 0.1 0.6 0.5 0.9 0.95\n");
+    s
+}
 
 #[test]
 fn eval_prints_label_and_shortest_round_trip_squared_distance() {
@@ -32,18 +50,59 @@ fn eval_prints_label_and_shortest_round_trip_squared_distance() {
         assert_eq!(lines.len(), 2);
         let a = [[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         let b = [[0.0f64, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]];
-        let want = tridist::sqdist_triangle_triangle(&a, &b);
+        let want: f64 = tridist::sqdist_triangle_triangle(&a, &b);
         let got: f64 = lines[0].strip_prefix("far ").expect("label first").parse().expect("a number");
         assert_eq!(got, want);
         assert_eq!(lines[1], "pierce 0.0");
     }
 }
 
+/// Every query of the registry is reachable from `eval`, in both precisions, and its answers
+/// meet the bound table against the exact oracle (`--check`).
 #[test]
-fn eval_check_and_oracle_exact() {
-    let (code, out, _) = tridist(&["eval", "--check"], PAIRS);
+fn every_kernel_runs_from_eval_and_agrees_with_the_oracle() {
+    let input = mixed_pairs();
+    let (code, list, _) = tridist(&["eval", "--list"], "");
     assert_eq!(code, 0);
-    assert!(out.lines().all(|l| l.contains(" E=")), "{out}");
+    for q in tridist::Query::ALL {
+        assert!(list.lines().any(|l| l == format!("{} scalar f64", q.name())), "{} not listed", q.name());
+        for prec in ["f32", "f64"] {
+            let mut args =
+                vec!["eval", "--kernel", q.name(), "--precision", prec, "--check", "--margin", "0.3"];
+            if *q == tridist::Query::Penalty {
+                args.extend(["--penalty-iters", "64"]);
+            }
+            let (code, out, err) = tridist(&args, &input);
+            assert_eq!(code, 0, "{} {prec}: {err}", q.name());
+            assert_eq!(out.lines().count(), 6, "{out}");
+            for l in out.lines() {
+                if q.is_verdict() {
+                    assert!(l.ends_with(" ok"), "{} {prec}: {l}", q.name());
+                    continue;
+                }
+                let e: f64 = l.rsplit_once(" E=").expect("E printed").1.parse().expect("E is a number");
+                // the penalty method is an approximation: its bound table row is looser
+                let limit = if q.is_approximate() { 1e5 } else { 8.0 };
+                assert!(e <= limit, "{} {prec}: {l}", q.name());
+            }
+        }
+    }
+    // the oracle answers the same questions
+    let (code, out, _) = tridist(&["eval", "--kernel", "oracle", "--query", "intersect"], &input);
+    assert_eq!(code, 0);
+    assert!(out.contains("pierce intersecting") && out.contains("far disjoint"), "{out}");
+}
+
+#[test]
+fn eval_check_intervals_and_oracle_exact() {
+    let (code, out, _) = tridist(&["eval", "--check", "--intervals"], PAIRS);
+    assert_eq!(code, 0);
+    // far: distance 2, squared 4, interval around 2
+    let far = out.lines().next().unwrap();
+    let iv = far.split_once('[').unwrap().1.split_once(']').unwrap().0;
+    let (lo, hi) = iv.split_once(", ").unwrap();
+    let (lo, hi): (f64, f64) = (lo.parse().unwrap(), hi.parse().unwrap());
+    assert!(lo <= 2.0 && 2.0 <= hi && hi - lo < 1e-12, "{far}");
     let (code, out, _) =
         tridist(&["eval", "--kernel", "oracle", "--exact"], "x 0 0 0 1 0 0 0 1 0 0 0 0.1 1 0 0.1 0 1 0.1\n");
     assert_eq!(code, 0);
@@ -52,6 +111,9 @@ fn eval_check_and_oracle_exact() {
     let (n, d) = frac.split_once('/').expect("num/den");
     let d: u128 = d.parse().expect("denominator");
     assert!(d.is_power_of_two() && n.parse::<u128>().is_ok(), "{out}");
+    let (code, _, err) = tridist(&["eval", "--exact"], PAIRS);
+    assert_eq!(code, 3);
+    assert!(err.contains("--kernel oracle"), "{err}");
 }
 
 #[test]
@@ -64,44 +126,93 @@ fn malformed_lines_are_reported_with_line_numbers_and_the_run_goes_on() {
     assert_eq!(lines, vec!["ok 4.0", "nan NaN"]);
     let (_, out, _) = tridist(&["eval", "--kernel", "oracle"], "inf 0 0 0 1 0 0 0 1 0 0 0 inf 1 0 2 0 1 2\n");
     assert!(out.contains("error: non-finite"), "{out}");
+    let (_, out, _) =
+        tridist(&["eval", "--kernel", "intersect"], "nan 0 0 0 1 0 0 0 1 0 0 0 NaN 1 0 2 0 1 2\n");
+    assert_eq!(out.trim(), "nan invalid");
 }
 
 #[test]
-fn garbage_arguments_are_errors_not_panics() {
+fn usage_errors_exit_2_with_the_usage_and_runtime_errors_exit_3_without() {
     for args in [
         &["frobnicate"][..],
         &["eval", "--variant", "avx512"],
         &["eval", "--precision", "f16"],
-        &["eval", "--kernel", "penalty"],
+        &["eval", "--kernel", "pqq"],
         &["eval", "--bogus"],
+        &["eval", "--tolerance", "abs:-1"],
+        &["eval", "--margin", "nan"],
         &["bench"],
         &["advise", "--scale", "-1", "--tolerance", "1"],
-        &[],
     ] {
         let (code, _, err) = tridist(args, "");
         assert_eq!(code, 2, "{args:?}: {err}");
-        assert!(err.contains("tridist:") && !err.contains("panicked"), "{args:?}: {err}");
+        assert!(
+            err.contains("error:") && (err.contains("Usage") || err.contains("--help")),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
-    let (code, out, _) = tridist(&["eval", "--list"], "");
+    let (code, _, err) = tridist(&[], "");
+    assert_eq!(code, 2);
+    assert!(err.contains("Usage: tridist <COMMAND>") && err.contains("Exit status"), "{err}");
+    // the registry's names are listed
+    let (_, _, err) = tridist(&["eval", "--kernel", "pqq"], "");
+    assert!(err.contains("unknown query"), "{err}");
+    let (code, _, err) = tridist(&["eval", "--kernel", "within"], PAIRS);
+    assert_eq!(code, 3);
+    assert!(err.contains("--margin") && !err.contains("Usage"), "{err}");
+    let (code, out, _) = tridist(&["eval", "--help"], "");
     assert_eq!(code, 0);
-    assert!(out.lines().any(|l| l == "pqp scalar f32") && out.lines().any(|l| l == "oracle exact f64"));
+    assert!(out.contains("--tolerance") && out.contains("--penalty-iters"));
 }
 
 #[test]
-fn bench_times_a_file_and_advise_picks_a_variant() {
-    let dir = std::env::temp_dir().join(format!("tridist-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+fn bench_times_every_kernel_and_a_peer() {
+    let dir = tmp("bench");
     let f = dir.join("pairs.txt");
-    std::fs::write(&f, PAIRS.repeat(50)).unwrap();
+    std::fs::write(&f, mixed_pairs().repeat(40)).unwrap();
+    for q in tridist::Query::ALL {
+        let (code, out, err) = tridist(
+            &[
+                "bench",
+                "--input",
+                f.to_str().unwrap(),
+                "--kernel",
+                q.name(),
+                "--reps",
+                "2",
+                "--precision",
+                "f32",
+                "--margin",
+                "0.1",
+            ],
+            "",
+        );
+        assert_eq!(code, 0, "{}: {err}", q.name());
+        assert!(
+            out.contains("240 pairs") && out.contains("queries/s") && out.contains("paths of one pass"),
+            "{out}"
+        );
+    }
     let (code, out, err) =
-        tridist(&["bench", "--input", f.to_str().unwrap(), "--reps", "3", "--precision", "f32"], "");
+        tridist(&["bench", "--input", f.to_str().unwrap(), "--peer", "parry3d", "--reps", "2"], "");
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("100 pairs") && out.contains("queries/s"), "{out}");
+    assert!(out.contains("parry3d f64") && out.contains("agreement"), "{out}");
     let (code, _, err) = tridist(&["bench", "--input", dir.join("missing.txt").to_str().unwrap()], "");
-    assert_eq!(code, 2);
-    assert!(err.contains("missing.txt"));
+    assert_eq!(code, 3);
+    assert!(err.contains("missing.txt") && !err.contains("Usage"), "{err}");
+    std::fs::write(dir.join("empty.txt"), "# nothing\n").unwrap();
+    let (code, _, err) = tridist(&["bench", "--input", dir.join("empty.txt").to_str().unwrap()], "");
+    assert_eq!(code, 3);
+    assert!(err.contains("no pairs"), "{err}");
+}
+
+#[test]
+fn advise_reads_the_csv_and_picks_a_variant() {
+    let dir = tmp("advise");
     let csv = dir.join("t.csv");
-    std::fs::write(&csv, "workload,query,variant,precision,queries_per_second\nrandom unit cube,tri_tri,scalar,f64,100\nrandom unit cube,tri_tri,scalar,f32,200\n").unwrap();
+    let head = "workload,query,implementation,precision,threads,tolerance,queries_per_second,pairs,prefiltered,delegated,recertified,compacted,widened,exact,uncertified\n";
+    std::fs::write(&csv, format!("{head}random,tri_tri,scalar,f64,1,default,100,1,0,0,0,0,0,0,0\nrandom,tri_tri,scalar,f32,1,default,200,1,0,0,0,0,0,0,0\n")).unwrap();
     // f32: 8 * 2^-24 * 1e3 = 4.8e-4 > 1e-6; f64 meets it
     let (code, out, _) =
         tridist(&["advise", "--scale", "1e3", "--tolerance", "1e-6", "--csv", csv.to_str().unwrap()], "");
@@ -111,4 +222,45 @@ fn bench_times_a_file_and_advise_picks_a_variant() {
         tridist(&["advise", "--scale", "1e3", "--tolerance", "1e-15", "--csv", csv.to_str().unwrap()], "");
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("no variant meets"));
+    std::fs::write(&csv, "not,a,throughput,table\n").unwrap();
+    let (code, _, err) =
+        tridist(&["advise", "--scale", "1", "--tolerance", "1", "--csv", csv.to_str().unwrap()], "");
+    assert_eq!(code, 3);
+    assert!(err.contains("header"), "{err}");
+}
+
+/// A small report end to end: every file is written, the CSV parses back with the csv crate
+/// and names every query, the plots are complete SVG documents with their legends.
+#[test]
+fn a_small_report_writes_parseable_files() {
+    let dir = tmp("report");
+    let (code, _, err) = tridist(
+        &["report", "--out", dir.to_str().unwrap(), "--cases", "12", "--pairs", "64", "--budget-ms", "1"],
+        "",
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains(&format!("wrote the reports to {}", dir.display())), "{err}");
+    for f in ["ACCURACY.md", "THROUGHPUT.md", "TRADEOFF.md"] {
+        let t = std::fs::read_to_string(dir.join(f)).unwrap();
+        assert!(
+            t.starts_with("<!-- Generated by `cargo run --release -p tridist-reports -- report --cases 12"),
+            "{f}"
+        );
+        assert!(!t.contains("EXCEEDED") && !t.contains("**NO**"), "{f} reports a bound exceeded");
+    }
+    let mut r = csv::Reader::from_path(dir.join("throughput.csv")).unwrap();
+    assert_eq!(r.headers().unwrap().len(), 15);
+    let rows: Vec<csv::StringRecord> = r.records().map(|x| x.unwrap()).collect();
+    for q in tridist::Query::ALL {
+        assert!(rows.iter().any(|x| &x[1] == q.name()), "{}", q.name());
+    }
+    assert!(rows.iter().all(|x| x.len() == 15 && x[6].parse::<f64>().unwrap() > 0.0));
+    for f in ["tradeoff.svg", "magnitude.svg", "offset.svg", "penalty.svg"] {
+        let t = std::fs::read_to_string(dir.join(f)).unwrap();
+        assert!(t.starts_with("<svg") && t.trim_end().ends_with("</svg>"), "{f}");
+        assert!(t.contains("target E = 8"), "{f}: no legend");
+    }
+    let t = std::fs::read_to_string(dir.join("tradeoff.svg")).unwrap();
+    assert!(t.contains("tridist avx2fma f32") || !tridist::Isa::Avx2Fma.is_available());
+    assert!(t.contains("parry3d f64"));
 }

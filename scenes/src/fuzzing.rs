@@ -361,7 +361,7 @@ fn raw_bits_in<T: Float>(words: &[u64]) -> Verdict {
                     }
                     continue;
                 }
-                if !(d >= T::ZERO) {
+                if d.is_nan() || d < T::ZERO {
                     return Err(format!("squared distance {d:?} for finite input: {}", at()));
                 }
                 if d.is_finite() && !o.p[i].iter().chain(o.q[i].iter()).all(|x| x.is_finite()) {

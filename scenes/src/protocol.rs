@@ -170,3 +170,55 @@ pub fn nearby_pairs(m: &Mesh, k: f64, n: usize, seed: u64) -> Vec<(Triangle<f64>
     }
     out
 }
+
+/// A named triangle-pair workload of the benches and the report.
+pub struct Named {
+    /// Short id (criterion group names, CSV).
+    pub id: &'static str,
+    /// Title in reports.
+    pub title: &'static str,
+    /// The pairs (f64; rounded to the precision measured).
+    pub pairs: Vec<(Triangle<f64>, Triangle<f64>)>,
+}
+
+/// The standard workloads, `n` pairs each: random unit-cube pairs (about a quarter intersect),
+/// nearby triangles of the Armadillo (within 3 mean edge lengths: the FCL comparison of issue
+/// 13), and the paper's protocol (Armadillo and the CAD part, neighbouring or random groups).
+///
+/// # Errors
+/// When a carried mesh is missing or malformed.
+pub fn standard(n: usize, seed: u64) -> Result<Vec<Named>, String> {
+    let load = |f: &str| crate::mesh::carried(f).map_err(|e| format!("data/meshes/{f}: {e}"));
+    let arm = load("armadillo.off")?;
+    let fan = load("fandisk_large.off")?;
+    let rnd =
+        crate::families::generate::<f64>(crate::Family::Random, seed, n).into_iter().map(|c| (c.a, c.b));
+    Ok(vec![
+        Named { id: "random", title: "random unit cube", pairs: rnd.collect() },
+        Named {
+            id: "arm_nearby",
+            title: "Armadillo, nearby triangles",
+            pairs: nearby_pairs(&arm, 3.0, n, seed),
+        },
+        Named {
+            id: "arm_arm_neighbouring",
+            title: "Armadillo vs Armadillo, neighbouring",
+            pairs: pairs(&arm, &arm, Grouping::Neighbouring, n, seed),
+        },
+        Named {
+            id: "arm_arm_random",
+            title: "Armadillo vs Armadillo, random",
+            pairs: pairs(&arm, &arm, Grouping::Random, n, seed),
+        },
+        Named {
+            id: "cad_cad_neighbouring",
+            title: "Fandisk vs Fandisk, neighbouring",
+            pairs: pairs(&fan, &fan, Grouping::Neighbouring, n, seed),
+        },
+        Named {
+            id: "cad_arm_random",
+            title: "Fandisk vs Armadillo, random",
+            pairs: pairs(&fan, &arm, Grouping::Random, n, seed),
+        },
+    ])
+}

@@ -133,30 +133,65 @@ pub fn check<T: Float>(w: &Workload<T>, q: Query, variant: Variant) -> Option<Re
     }
     let (z, s) = fingerprint(q, &out, &flags);
     let (rz, rs) = fingerprint(q, &ref_out, &ref_flags);
-    // Touching decisions may flip within rounding. The penalty method is an iteration whose
-    // result depends on rounding (FMA, lane grouping): it gets looser tolerances.
-    let (tol_zero, tol_sum) = if q == Query::Penalty { (n / 10 + 2, 2e-2) } else { (n / 100 + 2, 1e-3) };
-    if z.abs_diff(rz) > tol_zero || (s - rs).abs() > tol_sum * rs.abs().max(1e-300) {
-        return Some(Err(format!("result check failed: zeros {z} vs {rz}, sum {s} vs {rs}")));
+    // Touching decisions may flip within rounding.
+    if z.abs_diff(rz) > n / 100 + 2 && q != Query::Penalty {
+        return Some(Err(format!("result check failed: zeros {z} vs {rz}")));
+    }
+    if q == Query::Penalty {
+        // An iteration whose path depends on rounding (FMA, lane grouping): a few pairs may
+        // stop elsewhere (each answer is feasible; its accuracy is judged by the oracle).
+        // Checked pair by pair (the workloads are unit-sized): at most a tenth may differ by
+        // more than 1e-2.
+        let far = out
+            .iter()
+            .zip(&ref_out)
+            .filter(|(a, b)| {
+                (a.to_f64().sqrt() - b.to_f64().sqrt()).abs().partial_cmp(&1e-2)
+                    != Some(std::cmp::Ordering::Less)
+            })
+            .count();
+        if far > n / 10 + 2 {
+            return Some(Err(format!("result check failed: {far} of {n} penalty answers differ by > 1e-2")));
+        }
+    } else if (s - rs).abs() > 1e-3 * rs.abs().max(1e-300) {
+        return Some(Err(format!("result check failed: sum of distances {s} vs {rs}")));
     }
     Some(Ok(()))
 }
 
+/// One throughput measurement.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Measured {
+    /// Queries per second (median pass).
+    pub qps: f64,
+    /// Which path the pairs of one pass took.
+    pub counts: PathCounts,
+}
+
 /// Measures queries/s of `q` on `variant` after [`check`]: `None` when the variant is
-/// unavailable, `Err` when the check fails.
+/// unavailable, `Err` when the check fails. `engine` is the variant's engine as the caller
+/// configured it (threads, tolerance); `None` means [`Engine::new`] of the variant.
 pub fn measure<T: Float>(
     w: &Workload<T>,
     q: Query,
     variant: Variant,
+    engine: Option<Engine>,
     budget: Duration,
-) -> Option<Result<f64, String>> {
+) -> Option<Result<Measured, String>> {
     if let Err(e) = check(w, q, variant)? {
         return Some(Err(e));
     }
-    let e = Engine::new(variant.isa()).ok()?;
+    let e = match engine {
+        Some(e) => e,
+        None => Engine::new(variant.isa()).ok()?,
+    };
     let n = w.len(q);
     let (mut out, mut flags) = (vec![T::ZERO; n], vec![Intersection::Invalid; n]);
     let aos = variant == Variant::Scalar;
+    let counts = match w.run(q, e, aos, &mut out, &mut flags) {
+        Ok(c) => c,
+        Err(err) => return Some(Err(err.to_string())),
+    };
     let t = median_time(
         || {
             let _ = w.run(q, e, aos, &mut out, &mut flags);
@@ -164,5 +199,5 @@ pub fn measure<T: Float>(
         },
         budget,
     );
-    Some(Ok(n as f64 / t))
+    Some(Ok(Measured { qps: n as f64 / t, counts }))
 }

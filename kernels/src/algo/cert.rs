@@ -25,8 +25,8 @@
 //! `1 - x` is exact for `x >= 1/2`). `W = r + m_1 f + m_2 g - l_1 e_1 - l_2 e_2` is evaluated by
 //! four multiply-adds, each rounding once (twice unfused) a partial sum bounded componentwise by
 //! `mu = |r| + m_1 |f| + m_2 |g| + l_1 |e_1| + l_2 |e_2|`; with the differences' own rounding,
-//! `|W_c - W^_c| <= 10 u mu_c` (a margin over the 6 u of the analysis), so `hi = |W^| (1 + 8u)
-//! + 10 u |mu|`. Each projection `v.d` of a vertex difference `d` is within `4 u sum_c |v_c| |d_c|`
+//! `|W_c - W^_c| <= 10 u mu_c` (a margin over the 6 u of the analysis), so
+//! `hi = |W^| (1 + 8u) + 10 u |mu|`. Each projection `v.d` of a vertex difference `d` is within `4 u sum_c |v_c| |d_c|`
 //! of `v.(exact d)` (one rounding of `d`, three of the dot product); `lo` subtracts 6 u of those
 //! sums for both sides from the gap and divides by `|v|` rounded up. The tests check
 //! `lo <= d* <= hi` against the exact oracle on every input family, and the `cert` fuzz target

@@ -1,0 +1,183 @@
+//! The throughput table: one row per measurement, written to and read from
+//! `reports/throughput.csv` with the `csv` crate (quoting, a fixed header), so any CSV reader
+//! gets the same figures as `tridist advise`.
+
+use std::path::Path;
+
+use tridist::PathCounts;
+
+/// The CSV header, in order.
+pub const HEADER: [&str; 15] = [
+    "workload",
+    "query",
+    "implementation",
+    "precision",
+    "threads",
+    "tolerance",
+    "queries_per_second",
+    "pairs",
+    "prefiltered",
+    "delegated",
+    "recertified",
+    "compacted",
+    "widened",
+    "exact",
+    "uncertified",
+];
+
+/// One throughput measurement: a kernel variant (implementation = variant name) or a peer
+/// (implementation = `parry3d`, `fcl`) on a workload.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TRow {
+    /// Workload id ([`tridist_scenes::protocol::Named::id`]).
+    pub workload: String,
+    /// Query name (registry).
+    pub query: String,
+    /// Variant or peer.
+    pub implementation: String,
+    /// `f32` or `f64`.
+    pub precision: String,
+    /// Threads.
+    pub threads: usize,
+    /// Tolerance setting (`default`, `scaled:K`, `abs:X`, `exact`); `-` for peers.
+    pub tolerance: String,
+    /// Queries per second (NaN when the result check failed).
+    pub qps: f64,
+    /// Path counts of one pass (zero for peers).
+    pub counts: PathCounts,
+}
+
+impl TRow {
+    fn fields(&self) -> Vec<String> {
+        let c = &self.counts;
+        let mut v = vec![
+            self.workload.clone(),
+            self.query.clone(),
+            self.implementation.clone(),
+            self.precision.clone(),
+            self.threads.to_string(),
+            self.tolerance.clone(),
+            format!("{:.0}", self.qps),
+        ];
+        v.extend(
+            [
+                c.pairs,
+                c.prefiltered,
+                c.delegated,
+                c.recertified,
+                c.compacted,
+                c.widened,
+                c.exact,
+                c.uncertified,
+            ]
+            .map(|x| x.to_string()),
+        );
+        v
+    }
+}
+
+/// Writes the rows with [`HEADER`].
+///
+/// # Errors
+/// I/O errors, as a message naming the file.
+pub fn write(path: &Path, rows: &[TRow]) -> Result<(), String> {
+    let err = |e: csv::Error| format!("{}: {e}", path.display());
+    let mut w = csv::Writer::from_path(path).map_err(err)?;
+    w.write_record(HEADER).map_err(err)?;
+    for r in rows {
+        w.write_record(r.fields()).map_err(err)?;
+    }
+    w.flush().map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Reads a file written by [`write`].
+///
+/// # Errors
+/// A message with the file, line and field for an I/O error, a wrong header or a malformed row.
+pub fn read(path: &Path) -> Result<Vec<TRow>, String> {
+    let mut r = csv::Reader::from_path(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let h = r.headers().map_err(|e| format!("{}: {e}", path.display()))?.clone();
+    if h.iter().ne(HEADER) {
+        return Err(format!("{}: header is {:?}, expected {:?}", path.display(), h, HEADER));
+    }
+    let mut out = Vec::new();
+    for (i, rec) in r.records().enumerate() {
+        let line = i + 2;
+        let rec = rec.map_err(|e| format!("{}: {e}", path.display()))?;
+        let num = |k: usize| -> Result<u64, String> {
+            rec[k]
+                .parse()
+                .map_err(|_| format!("{}:{line}: {} {:?} is not a count", path.display(), HEADER[k], &rec[k]))
+        };
+        let qps: f64 = rec[6].parse().map_err(|_| {
+            format!("{}:{line}: queries_per_second {:?} is not a number", path.display(), &rec[6])
+        })?;
+        out.push(TRow {
+            workload: rec[0].to_string(),
+            query: rec[1].to_string(),
+            implementation: rec[2].to_string(),
+            precision: rec[3].to_string(),
+            threads: num(4)? as usize,
+            tolerance: rec[5].to_string(),
+            qps,
+            counts: PathCounts {
+                pairs: num(7)?,
+                prefiltered: num(8)?,
+                delegated: num(9)?,
+                recertified: num(10)?,
+                compacted: num(11)?,
+                widened: num(12)?,
+                exact: num(13)?,
+                uncertified: num(14)?,
+            },
+        });
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trips_including_commas_and_quotes() {
+        let dir = std::env::temp_dir().join(format!("tridist-table-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("t.csv");
+        let rows = vec![TRow {
+            workload: "Fandisk vs \"Fandisk\", neighbouring".into(),
+            query: "tri_tri".into(),
+            implementation: "avx2fma".into(),
+            precision: "f32".into(),
+            threads: 2,
+            tolerance: "default".into(),
+            qps: 12345.0,
+            counts: PathCounts { pairs: 10, compacted: 3, ..PathCounts::default() },
+        }];
+        write(&p, &rows).unwrap();
+        assert_eq!(read(&p).unwrap(), rows);
+        std::fs::write(&p, "a,b\n1,2\n").unwrap();
+        assert!(read(&p).unwrap_err().contains("header"));
+        let mut bad = std::fs::read_to_string(dir.join("t.csv")).unwrap_or_default();
+        bad.clear();
+        bad.push_str(&HEADER.join(","));
+        bad.push_str("\nw,q,i,f32,one,default,1,1,0,0,0,0,0,0,0\n");
+        std::fs::write(&p, bad).unwrap();
+        let e = read(&p).unwrap_err();
+        assert!(e.contains(":2: threads"), "{e}");
+    }
+
+    /// The committed file parses with the csv crate, every row has every field, and its
+    /// figures are positive numbers.
+    #[test]
+    fn the_committed_csv_parses() {
+        let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("throughput.csv");
+        let rows = read(&p).unwrap();
+        assert!(rows.len() > 100, "{} rows", rows.len());
+        assert!(rows.iter().all(|r| r.qps > 0.0 && r.threads >= 1), "a row without a measurement");
+        for q in tridist::Query::ALL {
+            assert!(rows.iter().any(|r| r.query == q.name()), "{} never measured", q.name());
+        }
+        assert!(rows.iter().any(|r| r.implementation == "parry3d"));
+    }
+}
