@@ -482,7 +482,7 @@ fn batches_update_in_place_and_queries_see_it() {
     assert!(d.iter().all(|&x| x > 90.0 * 90.0), "moved 100 away");
     world.transform_from(&local, &tridist::Pose::identity()).unwrap();
     e.sqdist_triangle_triangle(&world, &local, &mut d).unwrap();
-    assert!(d.iter().all(|&x| x == 0.0), "the same triangles");
+    assert!(d.iter().all(|&x| x == 0.0), "the same triangles: {d:?}");
 }
 
 #[cfg(feature = "glam")]

@@ -390,7 +390,13 @@ pub fn judge<T: Float>(
     // In u S, dividing by S first (u S underflows for subnormal inputs); an infinite hi is an
     // infinite width (nothing certified).
     let w = iv.hi.to_f64() - iv.lo.to_f64();
-    j.width = if w == 0.0 { 0.0 } else if t.s > 0.0 { w / t.s / pr.u } else { f64::INFINITY };
+    j.width = if w == 0.0 {
+        0.0
+    } else if t.s > 0.0 {
+        w / t.s / pr.u
+    } else {
+        f64::INFINITY
+    };
     if query == Query::Within {
         let m = margin.map_or(0.0, |m| m.to_f64());
         let m2 = Rational::from_f64(m).map(|r| Rational::from(&r * &r)).unwrap_or_default();

@@ -28,7 +28,11 @@
 //! `|W_c - W^_c| <= 10 u mu_c` (a margin over the 6 u of the analysis), so
 //! `hi = |W^| (1 + 8u) + 10 u |mu|`. Each projection `v.d` of a vertex difference `d` is within `4 u sum_c |v_c| |d_c|`
 //! of `v.(exact d)` (one rounding of `d`, three of the dot product); `lo` subtracts 6 u of those
-//! sums for both sides from the gap and divides by `|v|` rounded up. The tests check
+//! sums for both sides from the gap and divides by `|v|` rounded up. Underflow: an operation
+//! in the subnormal range errs absolutely by up to half the smallest subnormal, which no
+//! relative term covers, so both bounds move outward by 16 such steps, and `|W|` is bounded by
+//! `2 max_c |W_c|` where its squares may have underflowed (a pair one subnormal apart would
+//! otherwise get `hi = 0`; found by the extensive run, `near_miss` case 29554). The tests check
 //! `lo <= d* <= hi` against the exact oracle on every input family, and the `cert` fuzz target
 //! on arbitrary pairs under every tolerance.
 
@@ -194,8 +198,11 @@ pub(crate) fn certify<L: Lanes, const KA: usize, const KB: usize>(
         .add_scaled(vabs(e1), l1)
         .add_scaled(vabs(e2), l2);
     let up = k.one().add(u.mul(k.c(8.0)));
-    let norm = w.norm2().sqrt().mul(up);
-    let hi = norm.add(u.mul(k.c(C_HI)).mul(mu.norm2().sqrt().mul(up)));
+    let norm = norm_up(w, up);
+    // Underflow: each operation in the subnormal range errs by up to half a subnormal step
+    // absolutely, which no relative term covers; 16 steps cover the evaluation of W and mu.
+    let tiny = k.splat(<L::S as crate::real::sealed::Sealed>::TINY).mul(k.c(16.0));
+    let hi = norm.add(u.mul(k.c(C_HI)).mul(norm_up(mu, up))).add(tiny);
     // lo: projection gaps along w and along v (w made normal to the witness features: tight
     // when the witness is slightly misplaced along its features; w itself is the right one when
     // the features were misjudged, e.g. for degenerate primitives); the larger bound. Vertex
@@ -210,6 +217,17 @@ pub(crate) fn certify<L: Lanes, const KA: usize, const KB: usize>(
         up,
     ));
     Cert { lo, hi }
+}
+
+/// `|w|` rounded up (`up` covers the relative rounding). Where `w.w` is below
+/// `MIN_POSITIVE / u` its squares may have underflowed (a subnormal difference squares to 0),
+/// so the bound is `2 max_c |w_c|` there (exact, and at least `sqrt(3) max_c |w_c| >= |w|`).
+#[inline(always)]
+fn norm_up<L: Lanes>(w: V3<L>, up: L) -> L {
+    let k = Cx::of(w.x);
+    let n2 = w.norm2();
+    let small = n2.lt(k.splat(<L::S as crate::real::Real>::MIN_POSITIVE).div(k.u()));
+    L::select(small, w.norm_inf().mul(k.c(2.0)), n2.sqrt().mul(up))
 }
 
 /// The lower bound from the projection gap along `v` of the local vertices (`sa`: the first
@@ -235,7 +253,9 @@ fn gap_lo<L: Lanes, const KA: usize, const KB: usize>(v: V3<L>, sa: [V3<L>; 2], 
     }
     let low = k.one().sub(u.mul(k.c(4.0)));
     let vnorm = v.norm2().sqrt().mul(up);
-    let num = tmin.sub(smax).mul(low).sub(u.mul(k.c(C_LO)).mul(sig_s.add(sig_t)).mul(up));
+    // the dot products' subnormal rounding (half a step each, absolutely): 16 steps
+    let tiny = k.splat(<L::S as crate::real::sealed::Sealed>::TINY).mul(k.c(16.0));
+    let num = tmin.sub(smax).mul(low).sub(u.mul(k.c(C_LO)).mul(sig_s.add(sig_t)).mul(up)).sub(tiny);
     num.safe_div(vnorm).mul(low).max(k.zero())
 }
 
