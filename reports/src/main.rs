@@ -19,11 +19,11 @@ use std::time::Duration;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use tridist::{Engine, Interval, PenaltyOptions, Query, Tolerance};
-use tridist_scenes::bounds::bound;
+use tridist_scenes::bounds::bound_any_family;
 use tridist_scenes::eval::{parse_case_line, prims, run_with, summarise, truth, Variant};
 use tridist_scenes::float::Float;
 use tridist_scenes::peer::{self, Lib};
-use tridist_scenes::{Case, Family};
+use tridist_scenes::Case;
 
 /// Fast triangle distance kernels, measured: how fast, and how wrong, on every kind of input.
 #[derive(Parser, Debug)]
@@ -422,7 +422,7 @@ fn kernel_lines<T: Float>(e: Engine, q: Query, cases: &[Case<T>], a: &EvalArgs) 
         run_with(e, q, a.k.variant, cases, a.k.margin.map(|m| vec![T::from_f64(m); cases.len()]).as_deref())?;
     let judged = a.check.then(|| {
         let tr = truth(q, cases);
-        let b = bound(q, a.k.variant, T::NAME, Family::Random);
+        let b = bound_any_family(q, a.k.variant, T::NAME);
         let ms = a.k.margin.map(|m| vec![T::from_f64(m); cases.len()]);
         summarise(q, cases, &tr, &out, b.allow, ms.as_deref()).1
     });
@@ -591,7 +591,7 @@ fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Resul
         for (p, u, max_s, min_d) in
             [("f32", 2f64.powi(-24), 5e18, 3.7e-23), ("f64", 2f64.powi(-53), 5e153, 1.5e-162)]
         {
-            let e = Family::ALL.iter().map(|&f| bound(query, v, p, f).max_excess).fold(0.0, f64::max);
+            let e = bound_any_family(query, v, p).max_excess;
             let err = e * u * scale;
             let qps = rows
                 .iter()

@@ -26,8 +26,9 @@ pub struct Bound {
     /// Largest allowed closest-point error (offset from the primitive, or `|p - q|` against
     /// the exact distance), scaled like E.
     pub max_point_error: f64,
-    /// Allowed contact misses + false zeros beyond `c u S` + non-finite outputs.
-    pub max_misclassified: usize,
+    /// Allowed fraction of contact misses + false zeros beyond `c u S` (0 but for the penalty
+    /// method; `ceil(rate n) + 2` pairs are allowed of `n`, the 2 for small samples).
+    pub max_misclassified_rate: f64,
     /// Verdict and margin-decision allowance, in `u S`: a wrong side within this of a change of
     /// verdict is not counted.
     pub allow: f64,
@@ -38,9 +39,10 @@ pub struct Bound {
 /// The target of ACCURACY.md: a stable kernel keeps E below a small constant on every family.
 pub const TARGET: f64 = 8.0;
 
-/// The default tolerance of the certified pipeline (`tridist::Tolerance::DEFAULT`), plus one
-/// unit for the rounding of the decision itself: a pair within the tolerance of contact may
-/// be reported intersecting (documented), never one farther; "disjoint" is always proven.
+/// Verdict and margin-decision allowance, in `u S`. The documented guarantee is looser
+/// (`tridist::Tolerance::DEFAULT` is 64 u S, and a pair whose certified interval at that width
+/// contains 0 may be called intersecting); the kernels are measured inside 33 u S on every
+/// family, so the suite holds them to that. "Disjoint" is always proven.
 pub const VERDICT_ALLOW: f64 = 33.0;
 
 const DEFAULT: Bound = Bound {
@@ -48,29 +50,94 @@ const DEFAULT: Bound = Bound {
     p99: TARGET,
     median: TARGET,
     max_point_error: TARGET,
-    max_misclassified: 0,
+    max_misclassified_rate: 0.0,
     allow: VERDICT_ALLOW,
     reason: "target E <= 8 (ACCURACY.md)",
 };
 
-/// The declared bound for a combination.
+/// The bound set from a measured figure: 25 % over it plus a quarter unit, rounded up to a
+/// quarter (libm-test style: close enough that a regression from 1.6 to 7 is caught, loose
+/// enough for the other variants and seeds of the default run).
+pub fn margin(measured: f64) -> f64 {
+    ((measured * 1.25 + 0.25) * 4.0).ceil() / 4.0
+}
+
+/// One measured row: query, precision, family, then the maxima over every variant of
+/// `[max E, p99 E, median E, max point error]`, and the fraction of misclassified pairs
+/// (penalty only; exact queries allow none).
+type MeasuredRow = (&'static str, &'static str, &'static str, [f64; 4], f64);
+
+/// The measured figures the E rows are set from: the extensive differential run
+/// (`TRIDIST_EXTENSIVE=1 cargo test --release -p tridist-scenes --test differential --
+/// --nocapture`, 30,000 cases per family and precision, default seed), which prints these
+/// lines (`MEASURED ...`) ready to paste. It also fails on rows that have become much better
+/// than recorded here (stale), so the table stays true.
+pub const MEASURED: &[MeasuredRow] = &include!("measured.in");
+
+/// The measured figures of a combination (maxima over the variants), if recorded.
+pub fn measured(query: Query, precision: &str, family: Family) -> Option<([f64; 4], f64)> {
+    MEASURED
+        .iter()
+        .find(|r| r.0 == query.name() && r.1 == precision && r.2 == family.name())
+        .map(|r| (r.3, r.4))
+}
+
+/// The declared bound for a combination: [`margin`] over the measured row, capped at the
+/// [`TARGET`] for the exact queries (the penalty method is an approximation: its maximum is
+/// only bounded by feasibility, its p99 and median by the measurement).
 pub fn bound(query: Query, variant: Variant, precision: &str, family: Family) -> Bound {
-    let _ = (variant, family);
+    let _ = variant; // one row for all variants: the maxima over them were measured
+    let m = measured(query, precision, family);
+    let Some(([max, p99, median, pe], rate)) = m else {
+        return Bound { reason: "no measurement recorded: the target E <= 8 (ACCURACY.md)", ..DEFAULT };
+    };
     match query {
         Query::Penalty => {
-            // Feasible points: error below 8 S at worst.
             let u = if precision == "f32" { f32::EPSILON as f64 / 2.0 } else { f64::EPSILON / 2.0 };
             Bound {
+                // feasible points on the triangles: the error is below their extent (8 S)
                 max_excess: 8.0 / u,
-                p99: 8.0 / u,
-                median: TARGET,
                 max_point_error: 8.0 / u,
-                max_misclassified: usize::MAX,
-                reason: "penalty method (default options): an approximation",
+                p99: margin(p99),
+                median: margin(median),
+                max_misclassified_rate: rate * 1.5,
+                reason: "penalty method (default options), an approximation: max by feasibility (8 S), p99 and median measured + 25 %",
                 ..DEFAULT
             }
         }
-        _ => DEFAULT,
+        _ => Bound {
+            max_excess: margin(max).min(TARGET),
+            p99: margin(p99).min(TARGET),
+            median: margin(median).min(TARGET),
+            max_point_error: margin(pe).min(TARGET),
+            reason: "measured (extensive run) + 25 % + 0.25, at most the target E <= 8",
+            ..DEFAULT
+        },
+    }
+}
+
+/// The loosest bound of a combination over every family: for input of unknown family
+/// (`tridist eval --check`, the advice of `tridist advise`).
+pub fn bound_any_family(query: Query, variant: Variant, precision: &str) -> Bound {
+    let rows = Family::ALL.map(|f| bound(query, variant, precision, f));
+    let worst = |g: fn(&Bound) -> f64| rows.iter().map(g).fold(0.0, f64::max);
+    Bound {
+        max_excess: worst(|b| b.max_excess),
+        p99: worst(|b| b.p99),
+        median: worst(|b| b.median),
+        max_point_error: worst(|b| b.max_point_error),
+        max_misclassified_rate: worst(|b| b.max_misclassified_rate),
+        reason: "the loosest row over every family",
+        ..rows[0]
+    }
+}
+
+/// How many misclassified pairs a row of `n` pairs may have.
+pub fn allowed_misclassified(b: &Bound, n: usize) -> usize {
+    if b.max_misclassified_rate == 0.0 {
+        0
+    } else {
+        (b.max_misclassified_rate * n as f64).ceil() as usize + 2
     }
 }
 
@@ -81,25 +148,26 @@ pub const MIN_FOR_PERCENTILES: usize = 100;
 /// misses the exact distance, or a misjudged verdict never does. Written so that NaN figures
 /// fail.
 pub fn meets(s: &crate::eval::Stats, b: &Bound) -> bool {
-    let misclassified = s.contact_misses + s.false_zeros + s.nonfinite;
+    let misclassified = s.contact_misses + s.false_zeros;
     // Percentiles are meaningful over a family sample, not over a single fuzz input.
     let percentiles = s.n < MIN_FOR_PERCENTILES || (s.p99 <= b.p99 && s.median <= b.median);
     s.max_excess <= b.max_excess
         && percentiles
         && s.max_point_error <= b.max_point_error
-        && misclassified <= b.max_misclassified
+        && misclassified <= allowed_misclassified(b, s.n)
         && s.nonfinite == 0
         && s.interval_misses == 0
         && s.misjudged == 0
 }
 
 /// Runs `query` on every available variant over `cases` (whose exact answers are `truth`) and
-/// judges each against its row of the table; returns a reproducible description of every
-/// violation (empty when all variants meet their bounds). Within-margin uses
-/// [`crate::eval::margins`].
+/// judges each against its row of the table (`Some(family)`: that family's row; `None`, for
+/// adversarial input such as fuzzing finds and regression cases: the loosest row over the
+/// families, [`bound_any_family`]); returns a reproducible description of every violation
+/// (empty when all variants meet their bounds). Within-margin uses [`crate::eval::margins`].
 pub fn violations<T: Float>(
     query: Query,
-    family: Family,
+    family: Option<Family>,
     cases: &[crate::Case<T>],
     truth: &[crate::eval::Truth],
 ) -> Vec<String> {
@@ -107,7 +175,10 @@ pub fn violations<T: Float>(
     let mut out = Vec::new();
     for v in Variant::ALL {
         let Ok(o) = crate::eval::run(query, v, cases, Some(&ms)) else { continue };
-        let b = bound(query, v, T::NAME, family);
+        let b = match family {
+            Some(f) => bound(query, v, T::NAME, f),
+            None => bound_any_family(query, v, T::NAME),
+        };
         let (st, js) = crate::eval::summarise(query, cases, truth, &o, b.allow, Some(&ms));
         if !meets(&st, &b) {
             let w = st.worst.unwrap_or(0);
@@ -116,7 +187,7 @@ pub fn violations<T: Float>(
                 query.name(),
                 v.name(),
                 T::NAME,
-                family.name(),
+                family.map_or("any family", Family::name),
                 crate::eval::describe(query, &cases[w], &truth[w], &o, w, &js[w])
             ));
         }

@@ -33,7 +33,7 @@ fn permutations_within_bounds<T: Float>() {
                 for pb in PERMS {
                     let cases: Vec<_> = base.iter().map(|c| permuted(c, pa, pb, swap)).collect();
                     for q in [Query::TriTri, Query::TriTriBrute, Query::Intersect] {
-                        let bad = violations(q, family, &cases, &tr);
+                        let bad = violations(q, Some(family), &cases, &tr);
                         assert!(bad.is_empty(), "perm {pa:?} {pb:?} swap {swap}:\n{}", bad.join("\n"));
                     }
                 }
