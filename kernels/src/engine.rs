@@ -230,7 +230,10 @@ impl<'a, T: Real> Outputs<'a, T> {
         self.sink.q = Some(q);
         self
     }
-    /// Certified intervals of the distance.
+    /// Certified intervals of the distance. Not for [`Query::Intersect`]: its separating-axis
+    /// test computes no distance, and what it writes here (and to `sqdist`) is its verdict
+    /// encoding (0 intersecting, 1 disjoint), not a distance interval; ask for
+    /// [`Outputs::verdicts`], or run [`Query::TriTri`] for a certified distance.
     pub fn intervals(mut self, out: &'a mut [Interval<T>]) -> Self {
         self.sink.iv = Some(out);
         self

@@ -373,10 +373,11 @@ pub fn judge<T: Float>(
         } else {
             false
         };
-        let tol = Rational::from_f64((CONTACT_C * us).powi(2)).unwrap_or_default();
+        // A verdict is wrong when it is on the wrong side farther than the row's allowance
+        // from a change of verdict (misjudged); a wrong side within it is only counted strictly.
         return Judged {
-            contact_miss: miss,
-            false_zero: false_hit && t.d2 > tol,
+            contact_miss: miss && misjudged,
+            false_zero: false_hit && misjudged,
             false_zero_strict: false_hit,
             nonfinite: said.is_none(),
             misjudged,
