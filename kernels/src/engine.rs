@@ -74,7 +74,10 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 /// counts the others):
 ///
 /// * the returned distance is within the tolerance of the exact one (squared: `sqdist` is the
-///   square of a distance in `[lo, hi]`, rounded once);
+///   square of a distance in `[lo, hi]`, rounded once); when the interval's ends are subnormal,
+///   each may also lie up to two subnormal steps further out (the test runs on prescaled
+///   coordinates; unscaling rounds each end to the subnormal grid and then one step outward),
+///   so `hi - lo <= tolerance + 4 * MIN_SUBNORMAL`;
 /// * an intersection verdict "disjoint" is always proven (`lo > 0`); "intersecting" means the
 ///   distance is at most the tolerance (exactly 0 with the `exact` feature and
 ///   [`Tolerance::EXACT`]);
