@@ -8,6 +8,7 @@
 //! read, an empty input, a variant this CPU lacks, a failed result check).
 
 mod common;
+mod judge;
 mod plot;
 mod report;
 mod table;
@@ -72,6 +73,18 @@ enum Cmd {
     /// Times a batch query over the pairs in a file (same format as eval): queries per second,
     /// the median of repeated passes, and where the pairs went.
     Bench(BenchArgs),
+    /// Write the input families as a case file (optionally with exact answers).
+    ///
+    /// The pairs every test and report uses, reproducibly (same seed, same bytes), in the
+    /// format eval, bench and judge read: a label and 18 coordinates per line.
+    Cases(judge::CasesArgs),
+    /// Judge another implementation's answers to a case file against the exact oracle.
+    ///
+    /// Reads the cases and one answer per case (squared distance, optionally the closest
+    /// points; `nan`, `inf`, `error` allowed; verdict words for intersect) and prints the
+    /// per-family table of the reports. Exit status 1 when a limit is exceeded, 3 on a
+    /// malformed or misaligned file (with its line number).
+    Judge(judge::JudgeArgs),
     /// Pick the fastest variant that meets a distance tolerance.
     ///
     /// Picks the fastest variant whose declared error bound (the bound table's E, times u S)
@@ -145,6 +158,13 @@ struct EvalArgs {
     /// Append the excess error E against the exact oracle (verdicts: ok / misjudged).
     #[arg(long)]
     check: bool,
+    /// Append the closest points `px py pz qx qy qz` (distance queries).
+    #[arg(long)]
+    points: bool,
+    /// Answer with a peer's triangle-triangle distance instead (parry3d, fcl), squared in the
+    /// input precision.
+    #[arg(long, value_parser = parse_peer)]
+    peer: Option<Lib>,
     /// List every kernel, variant and precision this CPU runs, then exit.
     #[arg(long)]
     list: bool,
@@ -252,6 +272,8 @@ fn main() -> ExitCode {
         }
         Cmd::Eval(a) => cmd_eval(&a),
         Cmd::Bench(a) => cmd_bench(&a),
+        Cmd::Cases(a) => judge::cmd_cases(&a),
+        Cmd::Judge(a) => judge::cmd_judge(&a),
         Cmd::Advise { scale, tolerance, query, csv } => cmd_advise(scale, tolerance, query, csv),
     };
     match res {
@@ -348,6 +370,12 @@ fn cmd_eval(a: &EvalArgs) -> Result<ExitCode, Fail> {
         println!("oracle exact f32\noracle exact f64");
         return Ok(ExitCode::SUCCESS);
     }
+    if a.peer.is_some() && (a.k.kernel == Kernel::Oracle || a.check || a.intervals || a.points) {
+        return Err(Fail(
+            "--peer prints the peer's squared distance only (no oracle, --check, --intervals or --points)"
+                .into(),
+        ));
+    }
     if a.exact && a.k.kernel != Kernel::Oracle {
         return Err(Fail("--exact prints the oracle's fraction: use it with --kernel oracle".into()));
     }
@@ -367,7 +395,7 @@ fn verdict_word(d2_is_zero: bool) -> &'static str {
     }
 }
 
-fn eval_as<T: Float>(text: &str, a: &EvalArgs) -> Result<ExitCode, Fail> {
+fn eval_as<T: peer::Peer>(text: &str, a: &EvalArgs) -> Result<ExitCode, Fail> {
     let (cases, errors) = read_cases::<T>(text);
     for e in &errors {
         eprintln!("tridist eval: {e}");
@@ -377,7 +405,9 @@ fn eval_as<T: Float>(text: &str, a: &EvalArgs) -> Result<ExitCode, Fail> {
         Kernel::Oracle => a.k.query,
     };
     let e = engine::<T>(&a.k, q)?;
-    let lines = if a.k.kernel == Kernel::Oracle {
+    let lines = if let Some(lib) = a.peer {
+        peer_lines(lib, q, &cases)?
+    } else if a.k.kernel == Kernel::Oracle {
         oracle_lines(q, &cases, a)?
     } else {
         kernel_lines(e, q, &cases, a)?
@@ -386,6 +416,22 @@ fn eval_as<T: Float>(text: &str, a: &EvalArgs) -> Result<ExitCode, Fail> {
         println!("{} {l}", c.label);
     }
     Ok(if errors.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+/// A peer's squared triangle-triangle distances (its distance squared in `T`, as the report's
+/// peer table judges them).
+fn peer_lines<T: peer::Peer>(lib: Lib, q: Query, cases: &[Case<T>]) -> Result<Vec<String>, Fail> {
+    if q != Query::TriTri {
+        return Err(Fail("--peer answers the triangle-triangle distance (--kernel tri_tri) only".into()));
+    }
+    if !lib.available() {
+        return Err(Fail(format!("{} is not built in: {}", lib.name(), lib.missing_reason())));
+    }
+    let ta: Vec<_> = cases.iter().map(|c| c.a).collect();
+    let tb: Vec<_> = cases.iter().map(|c| c.b).collect();
+    let mut d = vec![T::ZERO; cases.len()];
+    peer::Shapes::for_lib(lib, &ta, &tb).distances(&mut d);
+    Ok(d.iter().map(|&x| if x.is_nan() { "error".to_string() } else { format!("{:?}", x * x) }).collect())
 }
 
 fn oracle_lines<T: Float>(q: Query, cases: &[Case<T>], a: &EvalArgs) -> Result<Vec<String>, Fail> {
@@ -441,6 +487,11 @@ fn kernel_lines<T: Float>(e: Engine, q: Query, cases: &[Case<T>], a: &EvalArgs) 
                 format!("{d:?}")
             }
         };
+        if a.points && !q.is_verdict() {
+            for x in out.p[i].iter().chain(out.q[i].iter()) {
+                l.push_str(&format!(" {x:?}"));
+            }
+        }
         if a.intervals && !q.is_verdict() {
             let Interval { lo, hi } = out.iv[i];
             l.push_str(&format!(" [{lo:?}, {hi:?}]"));

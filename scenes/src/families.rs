@@ -75,6 +75,29 @@ impl Family {
         }
     }
 
+    /// One line on what the family stresses (`tridist cases --list`).
+    pub fn about(self) -> &'static str {
+        match self {
+            Family::Random => "random triangles in the unit cube: the generic case",
+            Family::Far => "unit-size triangles translated 1e3 .. 1e7 from the origin: cancellation",
+            Family::Scale => "the whole pair scaled by 1e-30 .. 1e20: underflow and overflow of squares",
+            Family::Subnormal => "every coordinate subnormal: gradual underflow",
+            Family::Degenerate => "point-like, segment-like, repeated vertex, slivers of aspect 1e4 .. 1e7",
+            Family::Parallel => {
+                "parallel faces, parallel closest edges, coplanar disjoint: ties and zero divisors"
+            }
+            Family::NearParallel => "closest edges at 1e-3 .. 1e-7 rad: ill-conditioned edge-edge solves",
+            Family::Intersecting => "piercing and coplanar overlap: exact distance 0",
+            Family::Touching => {
+                "vertex-face, edge-edge crossing, shared vertex or edge: distance 0 on the boundary"
+            }
+            Family::NearMiss => {
+                "touching configurations a few ulps apart or into each other: contact decisions"
+            }
+            Family::Mesh => "triangles sharing a vertex in the Armadillo mesh: what mesh queries ask",
+        }
+    }
+
     /// Parses [`Family::name`].
     pub fn parse(s: &str) -> Option<Family> {
         Family::ALL.into_iter().find(|f| f.name() == s)

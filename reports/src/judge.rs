@@ -1,0 +1,436 @@
+//! `tridist cases` (export the input families as case files) and `tridist judge` (judge another
+//! implementation's answers to a case file against the exact oracle, with the metrics and the
+//! per-family table of the reports).
+//!
+//! Case file: one pair per line, `label` and 18 coordinates (triangle A then B, shortest
+//! round-trip decimals), optionally followed by `exact=NUM/DEN`, the oracle's exact squared
+//! distance for the query named in the file's header. Blank lines and `#` lines are comments.
+//!
+//! Answer file: one line per case, in the same order (comments skipped alike), optionally
+//! starting with the case's label (checked: a mismatch is an error, not a silent shift). Then,
+//! for a distance query, the squared distance (`nan`, `inf` and `error` allowed), optionally
+//! followed by the six coordinates of the closest points p (on A) and q (on B); for
+//! `intersect`, one of `intersecting`, `disjoint`, `invalid` or `error`.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::Args;
+use rug::Rational;
+use serde_json::{json, Value};
+use tridist::{Intersection, Interval, PathCounts, Query};
+use tridist_scenes::bounds::VERDICT_ALLOW;
+use tridist_scenes::eval::{case_line, parse_case_line, summarise, truth, Output, Stats};
+use tridist_scenes::families::generate;
+use tridist_scenes::float::Float;
+use tridist_scenes::{Case, Family};
+
+use crate::{parse_query, Fail, Prec};
+
+/// The queries a case file can be judged for.
+const JUDGED: [Query; 4] = [Query::TriTri, Query::SegSeg, Query::PointTri, Query::Intersect];
+
+fn parse_judged(s: &str) -> Result<Query, String> {
+    let q = parse_query(s)?;
+    if JUDGED.contains(&q) {
+        Ok(q)
+    } else {
+        Err("judge and cases take tri_tri, seg_seg, point_tri or intersect".into())
+    }
+}
+
+#[derive(Args, Debug)]
+pub(crate) struct CasesArgs {
+    /// A family name, or `all` (see --list).
+    #[arg(long, default_value = "all")]
+    family: String,
+    /// Cases per family.
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..))]
+    count: u32,
+    /// Generator seed (the reports use 1898041687, or $TRIDIST_SEED).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Precision of the coordinates.
+    #[arg(long, value_enum, default_value = "f64")]
+    precision: Prec,
+    /// Append `exact=NUM/DEN`, the exact squared distance of --query (0 for intersecting pairs).
+    #[arg(long)]
+    exact: bool,
+    /// The query whose exact answer --exact appends (segment queries use the first edge of
+    /// each triangle, point-triangle vertex 0 of B against A).
+    #[arg(long, default_value = "tri_tri", value_parser = parse_judged)]
+    query: Query,
+    /// Name every family with what it stresses, then exit.
+    #[arg(long)]
+    list: bool,
+}
+
+#[derive(Args, Debug)]
+pub(crate) struct JudgeArgs {
+    /// The case file (from `tridist cases`, or any file in its format).
+    #[arg(long, value_name = "FILE")]
+    cases: PathBuf,
+    /// The answers to judge, one line per case.
+    #[arg(long, value_name = "FILE")]
+    answers: PathBuf,
+    /// Precision of the cases and answers.
+    #[arg(long, value_enum)]
+    precision: Prec,
+    /// The question the answers answer.
+    #[arg(long, default_value = "tri_tri", value_parser = parse_judged)]
+    query: Query,
+    /// Fail (exit 1) when the excess error E exceeds this anywhere.
+    #[arg(long, value_name = "X", value_parser = crate::non_negative)]
+    max_excess: Option<f64>,
+    /// Fail (exit 1) when more cases than this are misclassified or non-finite (contact
+    /// misses, false zeros beyond 8 u S, wrong verdicts, non-finite answers).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    max_misclassified: usize,
+    /// Also write the table as JSON here.
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+}
+
+pub(crate) fn cmd_cases(a: &CasesArgs) -> Result<ExitCode, Fail> {
+    if a.list {
+        for f in Family::ALL {
+            println!("{:<14} {}", f.name(), f.about());
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    let families: Vec<Family> = if a.family == "all" {
+        Family::ALL.to_vec()
+    } else {
+        vec![Family::parse(&a.family).ok_or_else(|| {
+            Fail(format!("unknown family {:?} (`tridist cases --list` names them)", a.family))
+        })?]
+    };
+    let seed = a.seed.unwrap_or_else(tridist_scenes::seed);
+    let text = match a.precision {
+        Prec::F32 => cases_text::<f32>(&families, seed, a),
+        Prec::F64 => cases_text::<f64>(&families, seed, a),
+    };
+    print!("{text}");
+    Ok(ExitCode::SUCCESS)
+}
+
+fn cases_text<T: Float>(families: &[Family], seed: u64, a: &CasesArgs) -> String {
+    let mut s = format!(
+        "# tridist cases: {} per family, seed {seed}, {}{}\n# label, then triangle A and triangle B (x y z per vertex){}\n",
+        a.count,
+        T::NAME,
+        if a.exact { format!(", exact answers of {}", a.query.name()) } else { String::new() },
+        if a.exact { ", then exact=NUM/DEN (squared distance)" } else { "" },
+    );
+    for &f in families {
+        let cases = generate::<T>(f, seed, a.count as usize);
+        let tr = a.exact.then(|| truth(a.query, &cases));
+        for (i, c) in cases.iter().enumerate() {
+            s.push_str(&case_line(c));
+            if let Some(tr) = &tr {
+                let _ = write!(s, " exact={}/{}", tr[i].d2.numer(), tr[i].d2.denom());
+            }
+            s.push('\n');
+        }
+    }
+    s
+}
+
+/// A case line, with its optional `exact=NUM/DEN` field split off.
+pub(crate) fn parse_case_with_exact<T: Float>(line: &str) -> Result<(Case<T>, Option<Rational>), String> {
+    let (body, exact) = match line.rsplit_once(char::is_whitespace) {
+        Some((body, last)) if last.starts_with("exact=") => {
+            let r = last["exact=".len()..]
+                .parse::<Rational>()
+                .map_err(|_| format!("not an exact fraction: {last:?}"))?;
+            (body, Some(r))
+        }
+        _ => (line, None),
+    };
+    Ok((parse_case_line::<T>(body)?, exact))
+}
+
+/// Lines that are neither blank nor comments, with their 1-based numbers.
+fn content_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
+}
+
+/// One parsed answer.
+struct Answer<T> {
+    d: T,
+    points: Option<([T; 3], [T; 3])>,
+    verdict: Intersection,
+}
+
+fn is_answer_word(s: &str) -> bool {
+    matches!(s, "nan" | "NaN" | "inf" | "+inf" | "error" | "intersecting" | "disjoint" | "invalid")
+        || s.parse::<f64>().is_ok()
+}
+
+fn parse_answer<T: Float>(line: &str, case: &Case<T>, q: Query) -> Result<Answer<T>, String> {
+    let mut toks: Vec<&str> = line.split_whitespace().collect();
+    // a label is a leading field that is not an answer (a lone field is always the answer)
+    if toks.len() > 1 && !is_answer_word(toks[0]) {
+        if toks[0] != case.label {
+            return Err(format!(
+                "label {:?} but the case is {:?} (answers out of order or from another case file?)",
+                toks[0], case.label
+            ));
+        }
+        toks.remove(0);
+    }
+    let num = |s: &str| -> Result<T, String> {
+        match s {
+            "nan" | "NaN" | "error" => Ok(T::from_f64(f64::NAN)),
+            "inf" | "+inf" => Ok(T::INFINITY),
+            _ => s.parse::<T>().map_err(|_| format!("not a number: {s:?}")),
+        }
+    };
+    if q.is_verdict() {
+        let [w] = toks[..] else {
+            return Err(format!("expected one verdict word, found {} fields", toks.len()));
+        };
+        let verdict = match w {
+            "intersecting" => Intersection::Intersecting,
+            "disjoint" => Intersection::Disjoint,
+            "invalid" | "error" => Intersection::Invalid,
+            _ => return Err(format!("expected intersecting, disjoint, invalid or error, found {w:?}")),
+        };
+        return Ok(Answer { d: T::ZERO, points: None, verdict });
+    }
+    match toks.len() {
+        1 => Ok(Answer { d: num(toks[0]).map_err(|e| format!("{e} (nor nan, inf or error)"))?, points: None, verdict: Intersection::Invalid }),
+        7 => {
+            let v: Vec<T> = toks[1..].iter().map(|s| s.parse::<T>().map_err(|_| format!("not a number: {s:?}"))).collect::<Result<_, _>>()?;
+            Ok(Answer {
+                d: num(toks[0])?,
+                points: Some(([v[0], v[1], v[2]], [v[3], v[4], v[5]])),
+                verdict: Intersection::Invalid,
+            })
+        }
+        n => Err(format!(
+            "expected a squared distance, optionally followed by the 6 coordinates of the closest points; found {n} fields"
+        )),
+    }
+}
+
+fn read(path: &Path) -> Result<String, Fail> {
+    std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))
+}
+
+pub(crate) fn cmd_judge(a: &JudgeArgs) -> Result<ExitCode, Fail> {
+    let cases = read(&a.cases)?;
+    let answers = read(&a.answers)?;
+    match a.precision {
+        Prec::F32 => judge_as::<f32>(&cases, &answers, a),
+        Prec::F64 => judge_as::<f64>(&cases, &answers, a),
+    }
+}
+
+/// The judgement of one family (or the whole file).
+struct Group {
+    family: String,
+    stats: Stats,
+    /// Largest closest-point error over the answers that gave points (None: none did).
+    point_error: Option<f64>,
+}
+
+fn judge_as<T: Float>(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Result<ExitCode, Fail> {
+    let (cf, af) = (a.cases.display(), a.answers.display());
+    let mut cases: Vec<Case<T>> = Vec::new();
+    let mut exact: Vec<(usize, Option<Rational>)> = Vec::new();
+    for (n, l) in content_lines(cases_text) {
+        let (c, e) = parse_case_with_exact::<T>(l).map_err(|e| Fail(format!("{cf}: line {n}: {e}")))?;
+        if !c.a.iter().chain(c.b.iter()).flatten().all(|x| x.is_finite()) {
+            return Err(Fail(format!(
+                "{cf}: line {n}: non-finite coordinate (the oracle judges finite input)"
+            )));
+        }
+        cases.push(c);
+        exact.push((n, e));
+    }
+    if cases.is_empty() {
+        return Err(Fail(format!("{cf}: no cases")));
+    }
+    let mut ans: Vec<Answer<T>> = Vec::with_capacity(cases.len());
+    for (n, l) in content_lines(answers_text) {
+        let k = ans.len();
+        let Some(c) = cases.get(k) else {
+            return Err(Fail(format!("{af}: line {n}: more answers than the {} cases", cases.len())));
+        };
+        let x = parse_answer(l, c, a.query).map_err(|e| {
+            Fail(format!("{af}: line {n}: {e} (answer to case {:?}, {cf} line {})", c.label, exact[k].0))
+        })?;
+        ans.push(x);
+    }
+    if ans.len() < cases.len() {
+        let k = ans.len();
+        return Err(Fail(format!(
+            "{af}: {} answers for {} cases (the first without an answer is {:?}, {cf} line {})",
+            k,
+            cases.len(),
+            cases[k].label,
+            exact[k].0
+        )));
+    }
+    let tr = truth(a.query, &cases);
+    for (t, (n, e)) in tr.iter().zip(&exact) {
+        if let Some(e) = e {
+            if *e != t.d2 {
+                return Err(Fail(format!(
+                    "{cf}: line {n}: its exact answer is not the oracle's ({}/{})",
+                    t.d2.numer(),
+                    t.d2.denom()
+                )));
+            }
+        }
+    }
+    // Group by family (the label up to its first '/'), in order of first appearance.
+    let mut fams: Vec<String> = Vec::new();
+    let fam_of: Vec<usize> = cases
+        .iter()
+        .map(|c| {
+            let f = c.label.split('/').next().unwrap_or("").to_string();
+            fams.iter().position(|x| *x == f).unwrap_or_else(|| {
+                fams.push(f);
+                fams.len() - 1
+            })
+        })
+        .collect();
+    let mut groups: Vec<Group> = Vec::new();
+    let mut judge_idx = |idx: &[usize], name: String| {
+        let cs: Vec<Case<T>> = idx.iter().map(|&i| cases[i].clone()).collect();
+        let ts: Vec<_> = idx.iter().map(|&i| tr[i].clone()).collect();
+        let n = idx.len();
+        let out = Output {
+            d: idx.iter().map(|&i| ans[i].d).collect(),
+            p: idx.iter().map(|&i| ans[i].points.map_or([T::ZERO; 3], |p| p.0)).collect(),
+            q: idx.iter().map(|&i| ans[i].points.map_or([T::ZERO; 3], |p| p.1)).collect(),
+            // no certificate: the interval that contains everything
+            iv: vec![Interval { lo: T::ZERO, hi: T::INFINITY }; n],
+            verdict: idx.iter().map(|&i| ans[i].verdict).collect(),
+            counts: PathCounts::default(),
+        };
+        let (mut stats, js) = summarise(a.query, &cs, &ts, &out, VERDICT_ALLOW, None);
+        let with_points: Vec<f64> = idx
+            .iter()
+            .zip(&js)
+            .filter(|(&i, _)| ans[i].points.is_some())
+            .map(|(_, j)| j.point_error)
+            .collect();
+        let point_error = (!with_points.is_empty()).then(|| with_points.iter().copied().fold(0.0, f64::max));
+        stats.max_point_error = point_error.unwrap_or(0.0);
+        groups.push(Group { family: name, stats, point_error });
+    };
+    for (k, f) in fams.iter().enumerate() {
+        let idx: Vec<usize> = (0..cases.len()).filter(|&i| fam_of[i] == k).collect();
+        judge_idx(&idx, f.clone());
+    }
+    if fams.len() > 1 {
+        let idx: Vec<usize> = (0..cases.len()).collect();
+        judge_idx(&idx, "all".into());
+    }
+    let total = groups.last().expect("at least one group");
+    let st = &total.stats;
+    // (a wrong verdict beyond its allowance is counted once: as misjudged)
+    let misclassified =
+        st.nonfinite + if a.query.is_verdict() { st.misjudged } else { st.contact_misses + st.false_zeros };
+    let excess_ok = a.max_excess.is_none_or(|m| total.stats.max_excess <= m);
+    let pass = excess_ok && misclassified <= a.max_misclassified;
+    print!("{}", table(a.query, T::NAME, &groups));
+    println!(
+        "\n{}: max E {} (limit {}), misclassified or non-finite {misclassified} (limit {})",
+        if pass { "PASS" } else { "FAIL" },
+        crate::common::fmt(total.stats.max_excess),
+        a.max_excess.map_or("none".into(), crate::common::fmt),
+        a.max_misclassified
+    );
+    if let Some(path) = &a.json {
+        let v = json!({
+            "query": a.query.name(),
+            "precision": T::NAME,
+            "cases": cases.len(),
+            "families": groups.iter().map(group_json).collect::<Vec<_>>(),
+            "max_excess_limit": a.max_excess,
+            "max_misclassified_limit": a.max_misclassified,
+            "pass": pass,
+        });
+        let text = serde_json::to_string_pretty(&v).map_err(|e| Fail(e.to_string()))?;
+        std::fs::write(path, text + "\n").map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    }
+    Ok(if pass { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+/// A float for JSON: a number when finite, else the string "inf", "-inf" or "nan" (JSON has
+/// no non-finite numbers).
+fn num(x: f64) -> Value {
+    if x.is_finite() {
+        json!(x)
+    } else if x.is_nan() {
+        json!("nan")
+    } else if x > 0.0 {
+        json!("inf")
+    } else {
+        json!("-inf")
+    }
+}
+
+fn group_json(g: &Group) -> Value {
+    let s = &g.stats;
+    json!({
+        "family": g.family,
+        "n": s.n,
+        "max_excess": num(s.max_excess),
+        "p99_excess": num(s.p99),
+        "median_excess": num(s.median),
+        "contact_misses": s.contact_misses,
+        "false_zeros": s.false_zeros,
+        "strict_false_zeros": s.strict_false_zeros,
+        "nonfinite": s.nonfinite,
+        "misjudged": s.misjudged,
+        "max_point_error": g.point_error.map(num),
+    })
+}
+
+fn table(q: Query, prec: &str, groups: &[Group]) -> String {
+    let f = crate::common::fmt;
+    let mut s = format!(
+        "{} {prec}: E = |sqrt(answer) - exact distance| / (u S) beyond the correctly rounded answer (docs/ACCURACY.md)\n\n",
+        q.name()
+    );
+    if q.is_verdict() {
+        s.push_str("| family | cases | wrong \"disjoint\" | wrong \"intersecting\" (beyond 65 u S / any) | invalid |\n|---|---|---|---|---|\n");
+        for g in groups {
+            let st = &g.stats;
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} / {} | {} |",
+                g.family, st.n, st.contact_misses, st.false_zeros, st.strict_false_zeros, st.nonfinite
+            );
+        }
+        return s;
+    }
+    s.push_str("| family | cases | max E | p99 E | median E | contact misses | false zeros (beyond 8uS / strict) | non-finite | point error |\n|---|---|---|---|---|---|---|---|---|\n");
+    for g in groups {
+        let st = &g.stats;
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} / {} | {} | {} |",
+            g.family,
+            st.n,
+            f(st.max_excess),
+            f(st.p99),
+            f(st.median),
+            st.contact_misses,
+            st.false_zeros,
+            st.strict_false_zeros,
+            st.nonfinite,
+            g.point_error.map_or("-".into(), f)
+        );
+    }
+    s
+}
