@@ -21,7 +21,7 @@ use rug::Rational;
 use serde_json::{json, Value};
 use tridist::{Intersection, Interval, PathCounts, Query};
 use tridist_scenes::bounds::VERDICT_ALLOW;
-use tridist_scenes::eval::{case_line, parse_case_line, summarise, truth, Output, Stats};
+use tridist_scenes::eval::{case_line, parse_case_line_exact, summarise, truth, Output, Stats};
 use tridist_scenes::families::generate;
 use tridist_scenes::float::Float;
 use tridist_scenes::{Case, Family};
@@ -137,20 +137,6 @@ fn cases_text<T: Float>(families: &[Family], seed: u64, a: &CasesArgs) -> String
     s
 }
 
-/// A case line, with its optional `exact=NUM/DEN` field split off.
-pub(crate) fn parse_case_with_exact<T: Float>(line: &str) -> Result<(Case<T>, Option<Rational>), String> {
-    let (body, exact) = match line.rsplit_once(char::is_whitespace) {
-        Some((body, last)) if last.starts_with("exact=") => {
-            let r = last["exact=".len()..]
-                .parse::<Rational>()
-                .map_err(|_| format!("not an exact fraction: {last:?}"))?;
-            (body, Some(r))
-        }
-        _ => (line, None),
-    };
-    Ok((parse_case_line::<T>(body)?, exact))
-}
-
 /// Lines that are neither blank nor comments, with their 1-based numbers.
 fn content_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
     text.lines()
@@ -244,7 +230,7 @@ fn judge_as<T: Float>(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Re
     let mut cases: Vec<Case<T>> = Vec::new();
     let mut exact: Vec<(usize, Option<Rational>)> = Vec::new();
     for (n, l) in content_lines(cases_text) {
-        let (c, e) = parse_case_with_exact::<T>(l).map_err(|e| Fail(format!("{cf}: line {n}: {e}")))?;
+        let (c, e) = parse_case_line_exact::<T>(l).map_err(|e| Fail(format!("{cf}: line {n}: {e}")))?;
         if !c.a.iter().chain(c.b.iter()).flatten().all(|x| x.is_finite()) {
             return Err(Fail(format!(
                 "{cf}: line {n}: non-finite coordinate (the oracle judges finite input)"

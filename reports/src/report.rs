@@ -497,6 +497,7 @@ fn accuracy_md(s: &Settings, seed: u64, m: &Measured) -> String {
             fmt(ours)
         );
     }
+    a.push_str(&public_bugs_md());
     let _ = writeln!(a, "\n## The bound table's reasons\n");
     for r in reasons {
         let _ = writeln!(a, "- {r}");
@@ -844,4 +845,53 @@ fn update_readme(path: &Path, m: &Measured) -> Result<(), String> {
     let _ = writeln!(s, "\n![throughput vs error](reports/tradeoff.svg)\n\nFull tables: [reports/ACCURACY.md](reports/ACCURACY.md), [reports/THROUGHPUT.md](reports/THROUGHPUT.md), [reports/TRADEOFF.md](reports/TRADEOFF.md).");
     let out = format!("{}{}{}", &text[..i], s, &text[j..]);
     std::fs::write(path, out).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The public-bug set (scenes/tests/regressions/public_bugs.txt) judged like the families: the
+/// worst excess E of tridist over every variant on the labelled query, and the peers' triangle
+/// distance on the same line (points and segments are degenerate triangles there, so the
+/// triangle-triangle distance is the labelled query's).
+fn public_bugs_md() -> String {
+    let mut a = String::from("\n## Public-bug set\n\nCases reconstructed from public issue trackers of distance and collision libraries ([scenes/tests/regressions/public_bugs.txt](../scenes/tests/regressions/public_bugs.txt), each line names the project and issue), read in both precisions and judged with the same metrics. tridist: the worst E over every variant on the labelled query (`!` marks a misclassification: contact miss, false zero beyond 8 u S or non-finite). Peers: their triangle-triangle distance on the same pair.\n\n| case | query | prec | exact d | tridist worst E | parry3d E | fcl E |\n|---|---|---|---|---|---|---|\n");
+    public_bug_rows::<f32>(&mut a);
+    public_bug_rows::<f64>(&mut a);
+    a
+}
+
+fn public_bug_rows<T: Peer>(a: &mut String) {
+    let mark = |st: &Stats| {
+        let bad = st.contact_misses + st.false_zeros + st.nonfinite + st.misjudged > 0;
+        format!("{}{}", fmt(st.max_excess), if bad { " !" } else { "" })
+    };
+    for line in
+        tridist_scenes::PUBLIC_BUGS.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with('#'))
+    {
+        let Ok((case, _)) = tridist_scenes::eval::parse_case_line_exact::<T>(line) else { continue };
+        let Some(q) = case.label.split('/').next().and_then(Query::parse) else { continue };
+        let cases = vec![case];
+        let tr = truth(q, &cases);
+        let mut worst: Option<Stats> = None;
+        for v in Variant::ALL {
+            let Ok(out) = tridist_scenes::eval::run(q, v, &cases, None) else { continue };
+            let st = summarise(q, &cases, &tr, &out, bound(q, v, T::NAME, Family::Degenerate).allow, None).0;
+            if worst.as_ref().is_none_or(|w| {
+                st.max_excess > w.max_excess || st.contact_misses + st.false_zeros + st.nonfinite > 0
+            }) {
+                worst = Some(st);
+            }
+        }
+        let peer =
+            |lib: Lib| if lib.available() { mark(&peer::judge_cases(lib, &cases)) } else { "-".into() };
+        let _ = writeln!(
+            a,
+            "| {} | {} | {} | {:.6e} | {} | {} | {} |",
+            cases[0].label.split_once('/').map_or("", |x| x.1),
+            q.name(),
+            T::NAME,
+            tr[0].d2.to_f64().sqrt(),
+            worst.as_ref().map_or("-".into(), mark),
+            peer(Lib::Parry),
+            peer(Lib::Fcl)
+        );
+    }
 }

@@ -603,6 +603,21 @@ pub fn parse_case_line<T: Float>(line: &str) -> Result<Case<T>, String> {
     Ok(Case { label, a: [p(0), p(1), p(2)], b: [p(3), p(4), p(5)] })
 }
 
+/// A case line with an optional trailing `exact=NUM/DEN` field (case files of `tridist cases
+/// --exact`, the public-bug set): the case and the exact squared distance, when given.
+pub fn parse_case_line_exact<T: Float>(line: &str) -> Result<(Case<T>, Option<Rational>), String> {
+    let (body, exact) = match line.trim_end().rsplit_once(char::is_whitespace) {
+        Some((body, last)) if last.starts_with("exact=") => {
+            let r = last["exact=".len()..]
+                .parse::<Rational>()
+                .map_err(|_| format!("not an exact fraction: {last:?}"))?;
+            (body, Some(r))
+        }
+        _ => (line, None),
+    };
+    Ok((parse_case_line::<T>(body)?, exact))
+}
+
 /// One row of a sweep.
 #[derive(Clone, Debug)]
 pub struct Row {

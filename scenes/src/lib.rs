@@ -36,3 +36,8 @@ pub const DEFAULT_SEED: u64 = 0x7121_d157;
 pub fn seed() -> u64 {
     std::env::var(SEED_ENV).ok().and_then(|s| s.parse().ok()).unwrap_or(DEFAULT_SEED)
 }
+
+/// The public-bug regression set (`tests/regressions/public_bugs.txt`): cases reconstructed from
+/// public issue trackers of distance and collision libraries, each labelled
+/// `<query>/<project>#<issue>/<what>` with the exact answer of that query.
+pub const PUBLIC_BUGS: &str = include_str!("../tests/regressions/public_bugs.txt");

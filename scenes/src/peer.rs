@@ -258,7 +258,11 @@ pub fn time_pass<T: Peer>(shapes: &Shapes<T>, budget: Duration) -> f64 {
 /// metrics of ACCURACY.md. Distance only: the closest-point error of the result is meaningless
 /// (no points are returned) and left at 0.
 pub fn judge<T: Peer>(lib: Lib, family: Family, seed: u64, n: usize) -> Stats {
-    let cases: Vec<Case<T>> = generate::<T>(family, seed, n);
+    judge_cases(lib, &generate::<T>(family, seed, n))
+}
+
+/// [`judge`] on given cases (their triangle-triangle distance).
+pub fn judge_cases<T: Peer>(lib: Lib, cases: &[Case<T>]) -> Stats {
     let a: Vec<_> = cases.iter().map(|c| c.a).collect();
     let b: Vec<_> = cases.iter().map(|c| c.b).collect();
     let mut d = vec![T::ZERO; cases.len()];
@@ -276,7 +280,7 @@ pub fn judge<T: Peer>(lib: Lib, family: Family, seed: u64, n: usize) -> Stats {
         counts: PathCounts::default(),
     };
     let allow = crate::bounds::VERDICT_ALLOW;
-    let mut st = summarise(Query::TriTri, &cases, &truth(Query::TriTri, &cases), &out, allow, None).0;
+    let mut st = summarise(Query::TriTri, cases, &truth(Query::TriTri, cases), &out, allow, None).0;
     st.max_point_error = 0.0;
     st
 }

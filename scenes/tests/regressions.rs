@@ -5,7 +5,7 @@
 
 use tridist::Query;
 use tridist_scenes::bounds::violations;
-use tridist_scenes::eval::{parse_case_line, truth};
+use tridist_scenes::eval::{parse_case_line_exact, truth};
 use tridist_scenes::Float;
 
 fn replay<T: Float>(file: &str, text: &str) -> usize {
@@ -15,7 +15,14 @@ fn replay<T: Float>(file: &str, text: &str) -> usize {
         if line.is_empty() || line.starts_with('#') {
             continue;
         }
-        let case = parse_case_line::<T>(line).unwrap_or_else(|e| panic!("{file}:{}: {e}", ln + 1));
+        let (case, exact) =
+            parse_case_line_exact::<T>(line).unwrap_or_else(|e| panic!("{file}:{}: {e}", ln + 1));
+        // The recorded exact answer of the labelled query (f64: the decimals' own reading).
+        if let (Some(exact), "f64") = (exact, T::NAME) {
+            let q = case.label.split('/').next().and_then(Query::parse).expect("label starts with its query");
+            let t = truth(q, std::slice::from_ref(&case));
+            assert_eq!(t[0].d2, exact, "{file}:{}: the oracle's answer changed", ln + 1);
+        }
         let cases = vec![case];
         for &q in Query::ALL {
             let bad = violations(q, None, &cases, &truth(q, &cases));
