@@ -660,7 +660,11 @@ fn tradeoff_plot(m: &Measured) -> Plot {
     let mut add = |label: String, colour: usize, mark: Mark, x: Option<f64>, max: f64, med: f64| {
         let Some(x) = x else { return };
         let x = x / 1e6;
-        let (max, med) = (max.max(1e-3), med.max(1e-3));
+        // An infinite E (a non-finite answer for finite input) is drawn at the cap, and says so
+        // in the legend, rather than dropped from the picture.
+        const CAP: f64 = 1e18;
+        let label = if max.is_finite() { label } else { format!("{label} (max E = inf, drawn at 1e18)") };
+        let (max, med) = (max.clamp(1e-3, CAP), med.clamp(1e-3, CAP));
         series.push(Series { label, points: vec![(x, max)], mark, colour, whiskers: vec![(x, med, max)] });
     };
     let worst = |rows: Vec<&Stats>| -> (f64, f64) {
