@@ -64,8 +64,8 @@
 //! use tridist::driver::Job; // private module
 //! ```
 //! ```compile_fail,E0624
-//! fn reach<T: tridist::Real>() {
-//!     T::run_job(tridist::Isa::Avx2Fma, todo!()); // the seal's method is crate-private
+//! fn reach<T: tridist::Real, J>(job: J) {
+//!     T::run_job(tridist::Isa::Avx2Fma, job); // the seal's method is crate-private
 //! }
 //! ```
 //!

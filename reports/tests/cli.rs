@@ -3,29 +3,8 @@
 //! non-finite input, bad arguments and their exit status, `advise` on a CSV, and a small
 //! `report` whose CSV is parsed back and whose plots are well-formed SVG.
 
-use std::io::Write;
-use std::process::{Command, Stdio};
-
-fn tridist(args: &[&str], stdin: &str) -> (i32, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_tridist"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    // A run that rejects its arguments exits without reading its input: a closed pipe then.
-    match child.stdin.take().expect("stdin").write_all(stdin.as_bytes()) {
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => {}
-        r => r.expect("write"),
-    }
-    let out = child.wait_with_output().expect("wait");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
+mod common;
+use common::tridist;
 
 fn tmp(name: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("tridist-cli-{}-{name}", std::process::id()));

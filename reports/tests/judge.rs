@@ -4,35 +4,16 @@
 //! compute in-process for the same cases. Malformed and misaligned answer files are errors with
 //! line numbers; limits give exit status 1.
 
-use std::io::Write;
+mod common;
+use common::tridist;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 
 use serde_json::Value;
 use tridist::Query;
 use tridist_scenes::eval::{sweep_family, Stats, Variant};
 use tridist_scenes::peer::{self, Lib};
 use tridist_scenes::Family;
-
-fn tridist(args: &[&str], stdin: &str) -> (i32, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_tridist"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
-    match child.stdin.take().expect("stdin").write_all(stdin.as_bytes()) {
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => {}
-        r => r.expect("write"),
-    }
-    let out = child.wait_with_output().expect("wait");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
 
 fn dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("tridist-judge-{}-{name}", std::process::id()));
