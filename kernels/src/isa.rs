@@ -99,7 +99,7 @@ pub(crate) trait Token: Copy + 'static {
 pub(crate) struct Portable;
 
 macro_rules! portable_entries {
-    ([] $($v:ident, $name:literal, $k:path, $about:literal;)*) => {
+    ([] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
         // One out-of-line function per query and precision, a module per precision: small
         // units for the compiler, optimised in parallel.
         mod p32 {
@@ -108,7 +108,7 @@ macro_rules! portable_entries {
                 #[inline(never)]
                 #[allow(non_snake_case)]
                 pub(super) fn $v(k: Portable, job: &mut Job<'_, f32>) {
-                    crate::driver::run::<f32, $k>(k, job)
+                    crate::driver::run::<f32, crate::algo::$m::$k>(k, job)
                 }
             )*
         }
@@ -118,7 +118,7 @@ macro_rules! portable_entries {
                 #[inline(never)]
                 #[allow(non_snake_case)]
                 pub(super) fn $v(k: Portable, job: &mut Job<'_, f64>) {
-                    crate::driver::run::<f64, $k>(k, job)
+                    crate::driver::run::<f64, crate::algo::$m::$k>(k, job)
                 }
             )*
         }

@@ -5,23 +5,25 @@
 //! [`Query::ALL`]; adding a query is its algorithm file plus one line here (ARCHITECTURE.md).
 
 /// Calls `$m!` with the registry (optionally preceded by `[extra arguments]`): one
-/// `Variant, "name", kernel type, "description";` per query.
+/// `Variant, "name", module::KernelType, "description";` per query, where `module` is the
+/// algorithm file `kernels/src/algo/module.rs` (declared from this list by `algo/mod.rs`) and
+/// `KernelType` its type implementing `algo::Kernel`.
 macro_rules! for_each_query {
     ($m:ident $(, $extra:tt)*) => {
         $m! { [$($extra),*]
-            SegSeg, "seg_seg", crate::algo::seg_seg::SegSeg,
+            SegSeg, "seg_seg", seg_seg::SegSeg,
                 "segment-segment squared distance and closest points (Ericson 5.1.9)";
-            PointTri, "point_tri", crate::algo::point_tri::PointTri,
+            PointTri, "point_tri", point_tri::PointTri,
                 "point-triangle squared distance and closest point (Ericson 5.1.5)";
-            TriTri, "tri_tri", crate::algo::pqp::TriTri,
+            TriTri, "tri_tri", pqp::TriTri,
                 "triangle-triangle squared distance and closest points: fast stage, then PQP's TriDist";
-            TriTriBrute, "tri_tri_brute", crate::algo::brute::Brute,
+            TriTriBrute, "tri_tri_brute", brute::Brute,
                 "triangle-triangle by brute force: 15 feature pairs + separating axes";
-            Intersect, "intersect", crate::algo::sat::Intersect,
+            Intersect, "intersect", sat::Intersect,
                 "triangle-triangle intersection: certified separating axes or piercing witness";
-            Within, "within", crate::algo::within::Within,
+            Within, "within", within::Within,
                 "triangle-triangle within-margin: box test, then the distance when within the margin";
-            Penalty, "penalty", crate::algo::penalty::Penalty,
+            Penalty, "penalty", penalty::Penalty,
                 "triangle-triangle by Krestenitis & Koziara's penalty method (approximate)";
         }
     };
@@ -29,7 +31,7 @@ macro_rules! for_each_query {
 pub(crate) use for_each_query;
 
 macro_rules! define_query {
-    ([] $($v:ident, $name:literal, $k:path, $about:literal;)*) => {
+    ([] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
         /// Every query the crate answers (the registry). Batch queries run through
         /// [`crate::Engine::run`] by this name as well as through their typed methods.
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -65,7 +67,7 @@ macro_rules! define_query {
             pub fn arity(self) -> (usize, usize) {
                 use crate::algo::Kernel;
                 match self {
-                    $(Query::$v => (<$k as Kernel>::KA, <$k as Kernel>::KB),)*
+                    $(Query::$v => (<crate::algo::$m::$k as Kernel>::KA, <crate::algo::$m::$k as Kernel>::KB),)*
                 }
             }
         }

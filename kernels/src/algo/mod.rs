@@ -24,15 +24,17 @@
 //! - every answer carries a certificate ([`cert`]): an interval that provably contains the exact
 //!   distance, whose width decides whether the answer is accepted or escalated.
 
-pub(crate) mod brute;
 pub(crate) mod cert;
 pub(crate) mod fast;
-pub(crate) mod penalty;
-pub(crate) mod point_tri;
-pub(crate) mod pqp;
-pub(crate) mod sat;
-pub(crate) mod seg_seg;
-pub(crate) mod within;
+
+// Each query's algorithm file is declared by its registry line (`crate::query`), so adding a
+// query touches that line and its file only.
+macro_rules! declare_algorithm_files {
+    ([] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
+        $(pub(crate) mod $m;)*
+    };
+}
+crate::query::for_each_query!(declare_algorithm_files);
 
 use crate::lanes::{Cx, Lanes, Mask, V3};
 use crate::real::Real;

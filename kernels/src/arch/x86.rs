@@ -393,14 +393,14 @@ vec_type!(
 /// functions in one module per precision, so the compiler works on small units and optimises
 /// them in parallel (it partitions code units by module).
 macro_rules! simd_entries {
-    ([($tok:ty), ($feat:literal), ($l32:ty), ($l64:ty)] $($v:ident, $name:literal, $k:path, $about:literal;)*) => {
+    ([($tok:ty), ($feat:literal), ($l32:ty), ($l64:ty)] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
         mod p32 {
             use super::*;
             $(
                 #[target_feature(enable = $feat)]
                 #[allow(non_snake_case)]
                 pub(super) fn $v(k: $tok, job: &mut Job<'_, f32>) {
-                    crate::driver::run::<$l32, $k>(k, job)
+                    crate::driver::run::<$l32, crate::algo::$m::$k>(k, job)
                 }
             )*
         }
@@ -410,7 +410,7 @@ macro_rules! simd_entries {
                 #[target_feature(enable = $feat)]
                 #[allow(non_snake_case)]
                 pub(super) fn $v(k: $tok, job: &mut Job<'_, f64>) {
-                    crate::driver::run::<$l64, $k>(k, job)
+                    crate::driver::run::<$l64, crate::algo::$m::$k>(k, job)
                 }
             )*
         }
