@@ -103,3 +103,27 @@ pub fn fmt(x: f64) -> String {
         format!("{x:.2e}")
     }
 }
+
+/// Writes to standard output. A closed output (`tridist eval ... | head`) ends the command
+/// quietly with status 0, as a reader that has seen enough is not an error; any other write
+/// error ends it with status 3 and a message. Never a panic (`println!` panics on both).
+pub fn emit(args: std::fmt::Arguments<'_>) {
+    if let Err(e) = std::io::stdout().lock().write_fmt(args) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("tridist: error: cannot write to standard output: {e}");
+        std::process::exit(3);
+    }
+}
+
+/// `print!` through [`emit`].
+macro_rules! out {
+    ($($t:tt)*) => { $crate::common::emit(format_args!($($t)*)) };
+}
+
+/// `println!` through [`emit`].
+macro_rules! outln {
+    () => { $crate::common::emit(format_args!("\n")) };
+    ($($t:tt)*) => { $crate::common::emit(format_args!("{}\n", format_args!($($t)*))) };
+}

@@ -95,7 +95,7 @@ pub(crate) struct JudgeArgs {
 pub(crate) fn cmd_cases(a: &CasesArgs) -> Result<ExitCode, Fail> {
     if a.list {
         for f in Family::ALL {
-            println!("{:<14} {}", f.name(), f.about());
+            outln!("{:<14} {}", f.name(), f.about());
         }
         return Ok(ExitCode::SUCCESS);
     }
@@ -111,7 +111,7 @@ pub(crate) fn cmd_cases(a: &CasesArgs) -> Result<ExitCode, Fail> {
         Prec::F32 => cases_text::<f32>(&families, seed, a),
         Prec::F64 => cases_text::<f64>(&families, seed, a),
     };
-    print!("{text}");
+    out!("{text}");
     Ok(ExitCode::SUCCESS)
 }
 
@@ -327,8 +327,8 @@ fn judge_as<T: Float>(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Re
         st.nonfinite + if a.query.is_verdict() { st.misjudged } else { st.contact_misses + st.false_zeros };
     let excess_ok = a.max_excess.is_none_or(|m| total.stats.max_excess <= m);
     let pass = excess_ok && misclassified <= a.max_misclassified;
-    print!("{}", table(a.query, T::NAME, &groups));
-    println!(
+    out!("{}", table(a.query, T::NAME, &groups));
+    outln!(
         "\n{}: max E {} (limit {}), misclassified or non-finite {misclassified} (limit {})",
         if pass { "PASS" } else { "FAIL" },
         crate::common::fmt(total.stats.max_excess),

@@ -2,11 +2,12 @@
 //! the registry (or the exact oracle), time a file of pairs (or a peer on it), and advise a
 //! variant for a scene.
 //!
-//! Exit status: 0 success; 1 the run completed with a negative answer (malformed input lines
+//! Exit status: 0 success (also when standard output closes early, as with `| head`); 1 the run completed with a negative answer (malformed input lines
 //! were skipped, `advise` found no variant that meets the tolerance); 2 usage error (unknown
 //! subcommand, flag or value; printed with the usage); 3 runtime error (a file that cannot be
 //! read, an empty input, a variant this CPU lacks, a failed result check).
 
+#[macro_use]
 mod common;
 mod judge;
 mod plot;
@@ -34,7 +35,7 @@ struct Cli {
     cmd: Cmd,
 }
 
-const EXIT_CODES: &str = "Exit status: 0 success; 1 completed with a negative answer (malformed input lines skipped, no variant meets the tolerance); 2 usage error; 3 runtime error (unreadable file, empty input, unavailable variant, failed result check).";
+const EXIT_CODES: &str = "Exit status: 0 success (also when standard output is closed early, as by `| head`); 1 completed with a negative answer (malformed input lines skipped, no variant meets the tolerance); 2 usage error; 3 runtime error (unreadable file, empty input, unavailable variant, failed result check).";
 
 #[derive(Subcommand, Debug)]
 enum Cmd {
@@ -113,10 +114,8 @@ enum Prec {
 
 #[derive(Args, Debug)]
 struct KernelArgs {
-    /// Query of the registry (tri_tri, tri_tri_brute, seg_seg, point_tri, intersect, within,
-    /// penalty; `pqp` and `brute` name the triangle-triangle ones) or `oracle` (the exact
-    /// answer of --query).
-    #[arg(long, default_value = "tri_tri", value_parser = parse_kernel)]
+    // The help lists the registry's queries (kernel_help), so a new query appears by itself.
+    #[arg(long, default_value = "tri_tri", value_parser = parse_kernel, help = kernel_help())]
     kernel: Kernel,
     /// The query whose exact answer `--kernel oracle` prints.
     #[arg(long, default_value = "tri_tri", value_parser = parse_query)]
@@ -189,6 +188,15 @@ struct BenchArgs {
 enum Kernel {
     Query(Query),
     Oracle,
+}
+
+/// `--kernel`'s help, from the registry.
+fn kernel_help() -> String {
+    let names: Vec<&str> = Query::ALL.iter().map(|q| q.name()).collect();
+    format!(
+        "Query of the registry ({}; `pqp` and `brute` name the triangle-triangle ones) or `oracle` (the exact answer of --query)",
+        names.join(", ")
+    )
 }
 
 fn parse_kernel(s: &str) -> Result<Kernel, String> {
@@ -363,11 +371,11 @@ fn cmd_eval(a: &EvalArgs) -> Result<ExitCode, Fail> {
         for &q in Query::ALL {
             for v in Variant::ALL.iter().filter(|v| v.available()) {
                 for p in ["f32", "f64"] {
-                    println!("{} {} {p}", q.name(), v.name());
+                    outln!("{} {} {p}", q.name(), v.name());
                 }
             }
         }
-        println!("oracle exact f32\noracle exact f64");
+        outln!("oracle exact f32\noracle exact f64");
         return Ok(ExitCode::SUCCESS);
     }
     if a.peer.is_some() && (a.k.kernel == Kernel::Oracle || a.check || a.intervals || a.points) {
@@ -413,7 +421,7 @@ fn eval_as<T: peer::Peer>(text: &str, a: &EvalArgs) -> Result<ExitCode, Fail> {
         kernel_lines(e, q, &cases, a)?
     };
     for (c, l) in cases.iter().zip(lines) {
-        println!("{} {l}", c.label);
+        outln!("{} {l}", c.label);
     }
     Ok(if errors.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
@@ -554,14 +562,14 @@ fn bench_as<T: peer::Peer>(text: &str, a: &BenchArgs) -> Result<ExitCode, Fail> 
         let shapes = peer::Shapes::for_lib(lib, &ta, &tb);
         let mut out = vec![T::ZERO; n];
         let secs = time(&mut || shapes.distances(&mut out));
-        println!(
+        outln!(
             "{n} pairs, {} {}: {:.0} queries/s (median of {} passes after one warm-up)",
             lib.name(),
             T::NAME,
             n as f64 / secs,
             a.reps
         );
-        println!("agreement with tridist: max |d - d'| / S = {worst:.1e}, {beyond} pairs beyond 1e-3");
+        outln!("agreement with tridist: max |d - d'| / S = {worst:.1e}, {beyond} pairs beyond 1e-3");
         return Ok(ExitCode::SUCCESS);
     }
     let Kernel::Query(q) = a.k.kernel else { unreachable!("checked by cmd_bench") };
@@ -582,7 +590,7 @@ fn bench_as<T: peer::Peer>(text: &str, a: &BenchArgs) -> Result<ExitCode, Fail> 
         _ => time_batch(e, q, &ta, &tb, aos, &time)?,
     };
     let c = counts;
-    println!(
+    outln!(
         "{n} pairs, {} {} {}: {:.0} queries/s (median of {} passes after one warm-up, {} thread(s))",
         q.name(),
         a.k.variant.name(),
@@ -591,7 +599,7 @@ fn bench_as<T: peer::Peer>(text: &str, a: &BenchArgs) -> Result<ExitCode, Fail> 
         a.reps,
         e.thread_count()
     );
-    println!(
+    outln!(
         "paths of one pass: prefiltered {}, delegated {}, recertified {}, compacted {}, widened to f64 {}, exact {}, uncertified {}",
         c.prefiltered, c.delegated, c.recertified, c.compacted, c.widened, c.exact, c.uncertified
     );
@@ -660,7 +668,7 @@ fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Resul
         }
     }
     for o in &options {
-        println!(
+        outln!(
             "{:8} {}: declared E <= {} -> distance error <= {:.3e} at S = {scale:e}; {} queries/s; {}",
             o.v.name(),
             o.p,
@@ -676,7 +684,7 @@ fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Resul
         .max_by(|a, b| a.qps.unwrap_or(0.0).total_cmp(&b.qps.unwrap_or(0.0)));
     match best {
         Some(o) => {
-            println!(
+            outln!(
                 "\nadvice: {} {} ({:.0} queries/s on random pairs): its declared bound gives at most {:.3e} <= {tol:e}.",
                 o.v.name(),
                 o.p,
@@ -686,7 +694,7 @@ fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Resul
             Ok(ExitCode::SUCCESS)
         }
         None => {
-            println!("\nadvice: no variant meets a tolerance of {tol:e} at scale {scale:e} (the bound is E * u * S; f32 also cannot hold squared distances of coordinates beyond ~5e18 or distances below ~3.7e-23).");
+            outln!("\nadvice: no variant meets a tolerance of {tol:e} at scale {scale:e} (the bound is E * u * S; f32 also cannot hold squared distances of coordinates beyond ~5e18 or distances below ~3.7e-23).");
             Ok(ExitCode::from(1))
         }
     }

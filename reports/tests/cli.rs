@@ -248,3 +248,25 @@ fn a_small_report_writes_parseable_files() {
     // every peer is on the picture, even with an infinite E (drawn at the cap, said in the legend)
     assert!(t.contains("parry3d f64") && t.contains("parry3d f32"), "a peer is missing from tradeoff.svg");
 }
+
+/// A reader that stops early (`tridist cases ... | head -1`) ends the command quietly with
+/// status 0: no panic message, no error.
+#[test]
+fn closed_standard_output_ends_quietly() {
+    use std::io::{BufRead, BufReader};
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tridist"))
+        .args(["cases", "--family", "all", "--count", "20000", "--seed", "1"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().expect("stdout")).read_line(&mut first).expect("one line");
+    assert!(!first.is_empty());
+    // the reader is dropped here: the pipe is closed while the command still writes
+    let out = child.wait_with_output().expect("wait");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(err.is_empty(), "{err}");
+}
