@@ -29,6 +29,12 @@ fn main() {
         "Eigen/Dense",
     );
     let (Some(fcl), Some(eigen)) = (fcl, eigen) else {
+        // Installing the headers later rebuilds the shim (the include directories change).
+        for d in ["/usr/include", "/usr/local/include", "/opt/homebrew/include"] {
+            if Path::new(d).is_dir() {
+                println!("cargo:rerun-if-changed={d}");
+            }
+        }
         println!("cargo:warning=FCL peer not built: FCL or Eigen headers not found (apt-get install libfcl-dev libeigen3-dev)");
         return;
     };

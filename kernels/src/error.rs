@@ -25,7 +25,8 @@ pub enum Error {
         /// Points per primitive given.
         found: (usize, usize),
     },
-    /// The variant is not supported by this CPU (or this target).
+    /// The variant is not supported by this CPU (or this target), or not compiled in
+    /// ([`Isa::is_compiled`]).
     Unavailable(Isa),
     /// A variant name that is not one of `scalar`, `sse41`, `avx`, `avx2fma`.
     UnknownIsa(String),
@@ -59,6 +60,9 @@ impl core::fmt::Display for Error {
                 "query {query} takes primitives of {} and {} points, got {} and {}",
                 expected.0, expected.1, found.0, found.1
             ),
+            Error::Unavailable(i) if !i.is_compiled() => {
+                write!(f, "variant {i} is not compiled in (enable the `{i}` feature of tridist)")
+            }
             Error::Unavailable(i) => write!(f, "variant {i} is not available on this CPU"),
             Error::UnknownIsa(s) => {
                 write!(f, "unknown variant {s:?} (expected scalar, sse41, avx or avx2fma)")

@@ -14,7 +14,8 @@ pub enum Isa {
     Scalar,
     /// SSE4.1: f32x4, f64x2.
     Sse41,
-    /// AVX without FMA: f32x8, f64x4.
+    /// AVX without FMA: f32x8, f64x4. Compiled only with the crate feature `avx` (default off:
+    /// it doubles the build time; CPUs with AVX but not AVX2+FMA run [`Isa::Sse41`] then).
     Avx,
     /// AVX2 + FMA: f32x8, f64x4, fused multiply-add in every dot product.
     Avx2Fma,
@@ -49,9 +50,15 @@ impl Isa {
         wide / core::mem::size_of::<T>()
     }
 
-    /// Does this CPU support the variant? (Runtime detection, cached.)
+    /// Does this CPU support the variant, and is it compiled in? (Runtime detection, cached.)
     pub fn is_available(self) -> bool {
-        detected()[self as usize]
+        self.is_compiled() && detected()[self as usize]
+    }
+
+    /// Is the variant compiled into this build? Every variant except [`Isa::Avx`], which needs
+    /// the crate feature `avx`.
+    pub const fn is_compiled(self) -> bool {
+        !matches!(self, Isa::Avx) || cfg!(feature = "avx")
     }
 
     /// The fastest available variant.
@@ -153,11 +160,13 @@ macro_rules! run_for {
                     Some(k) => k.$run(job),
                     None => Portable.$run(job),
                 },
-                #[cfg(target_arch = "x86_64")]
+                #[cfg(all(target_arch = "x86_64", feature = "avx"))]
                 Isa::Avx => match crate::arch::x86::Avx::detect() {
                     Some(k) => k.$run(job),
                     None => Portable.$run(job),
                 },
+                #[cfg(all(target_arch = "x86_64", not(feature = "avx")))]
+                Isa::Avx => Portable.$run(job),
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx2Fma => match crate::arch::x86::Avx2Fma::detect() {
                     Some(k) => k.$run(job),

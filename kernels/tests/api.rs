@@ -214,6 +214,22 @@ fn isa_selection() {
     assert_eq!(Isa::Sse41.lanes::<f64>(), 2);
 }
 
+/// The AVX-without-FMA variant exists only with the `avx` feature (`cargo test -p tridist`
+/// builds without it, the workspace with it): without, it is never picked and asking for it
+/// says which feature to enable.
+#[test]
+fn avx_variant_follows_its_feature() {
+    assert_eq!(Isa::Avx.is_compiled(), cfg!(feature = "avx"));
+    assert!(Isa::ALL.iter().all(|i| *i == Isa::Avx || i.is_compiled()));
+    if !Isa::Avx.is_compiled() {
+        assert!(!Isa::Avx.is_available());
+        assert_ne!(Isa::best(), Isa::Avx);
+        let err = Engine::new(Isa::Avx).unwrap_err();
+        assert_eq!(err, Error::Unavailable(Isa::Avx));
+        assert!(err.to_string().contains("enable the `avx` feature"), "{err}");
+    }
+}
+
 #[test]
 fn within_margin_agrees_with_the_full_query() {
     let ps = pairs::<f32>(200);

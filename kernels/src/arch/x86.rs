@@ -21,6 +21,7 @@ use crate::query::{for_each_query, Query};
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Sse41(());
 /// Proof that AVX is available.
+#[cfg(feature = "avx")]
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Avx(());
 /// Proof that AVX2 and FMA (and AVX) are available.
@@ -33,6 +34,7 @@ impl Sse41 {
         Isa::Sse41.is_available().then_some(Sse41(()))
     }
 }
+#[cfg(feature = "avx")]
 impl Avx {
     /// A token when this CPU has AVX (cached detection).
     pub(crate) fn detect() -> Option<Self> {
@@ -54,6 +56,7 @@ impl HasSse41 for Sse41 {}
 pub(crate) trait HasAvx: Token {
     const FMA: bool;
 }
+#[cfg(feature = "avx")]
 impl HasAvx for Avx {
     const FMA: bool = false;
 }
@@ -438,6 +441,7 @@ mod sse41 {
     use super::*;
     for_each_query!(simd_entries, (Sse41), ("sse4.1"), (F32x4<Sse41>), (F64x2<Sse41>));
 }
+#[cfg(feature = "avx")]
 mod avx {
     use super::*;
     for_each_query!(simd_entries, (Avx), ("avx"), (F32x8<Avx>), (F64x4<Avx>));
