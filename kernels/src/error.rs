@@ -38,6 +38,14 @@ pub enum Error {
     InvalidTolerance,
     /// A pose that is not finite (see [`crate::Pose`]).
     InvalidPose,
+    /// A mesh vertex has a NaN or infinite coordinate ([`crate::Mesh::new`]).
+    NonFiniteVertex {
+        /// The vertex number.
+        vertex: usize,
+    },
+    /// A coordinate is NaN or infinite: a query point that is not finite, or a mesh whose
+    /// moved bounding box leaves the precision's range (a moved vertex could overflow).
+    NonFiniteCoordinate,
     /// A mesh index names no vertex.
     IndexOutOfRange {
         /// Triangle number.
@@ -74,6 +82,10 @@ impl core::fmt::Display for Error {
             ),
             Error::InvalidTolerance => write!(f, "tolerances must be non-negative (inf allowed), not NaN"),
             Error::InvalidPose => write!(f, "pose rotation and translation must be finite"),
+            Error::NonFiniteVertex { vertex } => write!(f, "vertex {vertex} has a NaN or infinite coordinate"),
+            Error::NonFiniteCoordinate => {
+                write!(f, "a coordinate is NaN or infinite (a query point, or a vertex moved out of range)")
+            }
             Error::IndexOutOfRange { triangle, index, vertices } => {
                 write!(f, "triangle {triangle} uses vertex index {index}, but there are {vertices} vertices")
             }

@@ -10,6 +10,7 @@
 #[macro_use]
 mod common;
 mod judge;
+mod meshcmd;
 mod plot;
 mod report;
 mod table;
@@ -86,6 +87,13 @@ enum Cmd {
     /// per-family table of the reports. Exit status 1 when a limit is exceeded, 3 on a
     /// malformed or misaligned file (with its line number).
     Judge(judge::JudgeArgs),
+    /// Distance, intersection, contacts and closest point of two meshes (OFF) in poses.
+    ///
+    /// Builds each mesh's tree once and runs the mesh queries, the batch kernels doing the
+    /// leaf work: prints the distance, closest points and the triangle pair, whether they
+    /// intersect, with --margin the contact count and the closest contacts, with --point the
+    /// closest point of the second mesh.
+    Mesh(meshcmd::MeshArgs),
     /// Pick the fastest variant that meets a distance tolerance.
     ///
     /// Picks the fastest variant whose declared error bound (the bound table's E, times u S)
@@ -107,7 +115,7 @@ enum Cmd {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
-enum Prec {
+pub(crate) enum Prec {
     F32,
     F64,
 }
@@ -215,7 +223,7 @@ fn parse_query(s: &str) -> Result<Query, String> {
     })
 }
 
-fn parse_variant(s: &str) -> Result<Variant, String> {
+pub(crate) fn parse_variant(s: &str) -> Result<Variant, String> {
     Variant::parse(s).ok_or_else(|| "unknown variant (scalar, soa, sse41, avx, avx2fma, auto)".into())
 }
 
@@ -258,7 +266,7 @@ fn parse_tolerance(s: &str) -> Result<Tolerance, String> {
 }
 
 /// A runtime failure (exit status 3).
-struct Fail(String);
+pub(crate) struct Fail(pub(crate) String);
 
 impl<E: std::fmt::Display> From<E> for Fail {
     fn from(e: E) -> Self {
@@ -282,6 +290,7 @@ fn main() -> ExitCode {
         Cmd::Bench(a) => cmd_bench(&a),
         Cmd::Cases(a) => judge::cmd_cases(&a),
         Cmd::Judge(a) => judge::cmd_judge(&a),
+        Cmd::Mesh(a) => meshcmd::cmd_mesh(&a),
         Cmd::Advise { scale, tolerance, query, csv } => cmd_advise(scale, tolerance, query, csv),
     };
     match res {

@@ -270,3 +270,57 @@ fn closed_standard_output_ends_quietly() {
     assert_eq!(out.status.code(), Some(0), "{err}");
     assert!(err.is_empty(), "{err}");
 }
+
+/// `tridist mesh` on two small OFF files: the distance of two unit tetrahedra 2 apart along x,
+/// an intersection once moved into each other, contacts, the closest point, and clear errors
+/// for a malformed file and a bad pose.
+#[test]
+fn mesh_subcommand_answers_and_rejects_bad_input() {
+    let d = tmp("mesh");
+    let tet = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n";
+    let (a, bad) = (d.join("a.off"), d.join("bad.off"));
+    std::fs::write(&a, tet).unwrap();
+    std::fs::write(&bad, "OFF\n4 4 0\n0 0 0\n1 0 0\n").unwrap();
+    let a = a.to_str().unwrap();
+    for prec in ["f32", "f64"] {
+        let (code, out, err) = tridist(
+            &["mesh", a, a, "--pose-b", "3,0,0", "--margin", "2.5", "--point", "5,0,0", "--precision", prec],
+            "",
+        );
+        assert_eq!(code, 0, "{err}");
+        // the face x = 0 of the moved copy against the vertex (1, 0, 0): distance 2
+        let dist: f64 = out
+            .lines()
+            .find_map(|l| l.strip_prefix("distance: "))
+            .and_then(|l| l.split_whitespace().next())
+            .expect("a distance line")
+            .parse()
+            .unwrap();
+        assert_eq!(dist, 2.0, "{out}");
+        assert!(out.contains("intersect: no"), "{out}");
+        // within 2.5: the three triangles of the first holding (1, 0, 0) against the three of
+        // the second holding (3, 0, 0) (distance 2) and against its slanted face (distance
+        // sqrt(4.5)); the first's face x = 0 is 3 away: 12 pairs
+        let n: usize = out
+            .lines()
+            .find_map(|l| l.strip_prefix("contacts within 2.5: "))
+            .and_then(|l| l.split_whitespace().next())
+            .expect("a contacts line")
+            .parse()
+            .unwrap();
+        assert_eq!(n, 12, "{out}");
+        assert!(out.contains("closest point of the second mesh: 4 0 0 at 1 "), "{out}");
+    }
+    let (code, out, _) = tridist(&["mesh", a, a, "--pose-b", "0.25,0.25,0.25"], "");
+    assert_eq!(code, 0);
+    assert!(out.contains("intersect: yes"), "{out}");
+    assert!(out.contains("distance: 0 "), "{out}");
+    let (code, _, err) = tridist(&["mesh", a, bad.to_str().unwrap()], "");
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("bad.off") && err.contains("OFF"), "{err}");
+    let (code, _, err) = tridist(&["mesh", a, a, "--pose-b", "1,2"], "");
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("3 or 7 numbers"), "{err}");
+    let (code, _, err) = tridist(&["mesh", a, "/nonexistent.off"], "");
+    assert_eq!(code, 3, "{err}");
+}

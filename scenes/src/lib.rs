@@ -18,6 +18,7 @@ pub mod families;
 pub mod float;
 pub mod fuzzing;
 pub mod mesh;
+pub mod mesh_scenes;
 #[cfg(feature = "peers")]
 pub mod peer;
 pub mod protocol;

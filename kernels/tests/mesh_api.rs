@@ -1,0 +1,78 @@
+//! Mesh queries: misuse and bad input are errors with their documented outcome, never a panic;
+//! empty meshes; a moved mesh gives the same answers as the same mesh built moved.
+
+use tridist::{Engine, Error, Mesh, Pose};
+
+fn tetra(o: [f64; 3]) -> Mesh<f64> {
+    let v = vec![o, [o[0] + 1.0, o[1], o[2]], [o[0], o[1] + 1.0, o[2]], [o[0], o[1], o[2] + 1.0]];
+    Mesh::new(v, vec![[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]).unwrap()
+}
+
+#[test]
+fn bad_meshes_and_poses_are_errors() {
+    let v = vec![[0.0f32; 3]; 3];
+    assert_eq!(
+        Mesh::new(v.clone(), vec![[0, 1, 3]]).unwrap_err(),
+        Error::IndexOutOfRange { triangle: 0, index: 3, vertices: 3 }
+    );
+    let mut nan = v.clone();
+    nan[1][2] = f32::NAN;
+    assert_eq!(Mesh::new(nan, vec![[0, 1, 2]]).unwrap_err(), Error::NonFiniteVertex { vertex: 1 });
+    let (a, b) = (tetra([0.0; 3]), tetra([3.0, 0.0, 0.0]));
+    let e = Engine::auto();
+    let id = Pose::identity();
+    let bad = Pose::translation([f64::NAN, 0.0, 0.0]);
+    assert_eq!(e.mesh_distance(&a, &bad, &b, &id).unwrap_err(), Error::InvalidPose);
+    assert_eq!(e.mesh_intersect(&a, &id, &b, &bad).unwrap_err(), Error::InvalidPose);
+    assert_eq!(e.mesh_contacts(&a, &id, &b, &id, -1.0, None).unwrap_err(), Error::InvalidMargin);
+    assert_eq!(e.mesh_contacts(&a, &id, &b, &id, f64::NAN, None).unwrap_err(), Error::InvalidMargin);
+    assert_eq!(
+        e.mesh_closest_point(&a, &id, [f64::INFINITY, 0.0, 0.0]).unwrap_err(),
+        Error::NonFiniteCoordinate
+    );
+    // a moved coordinate that overflows
+    let huge =
+        Mesh::new(vec![[3e38f32, 0.0, 0.0], [3e38, 1.0, 0.0], [3e38, 0.0, 1.0]], vec![[0, 1, 2]]).unwrap();
+    let push = Pose::translation([3e38f32, 0.0, 0.0]);
+    let small = Mesh::new(vec![[0.0f32; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![[0, 1, 2]]).unwrap();
+    let idf = Pose::identity();
+    assert_eq!(e.mesh_distance(&huge, &push, &small, &idf).unwrap_err(), Error::NonFiniteCoordinate);
+    assert_eq!(e.mesh_intersect(&huge, &push, &small, &idf).unwrap_err(), Error::NonFiniteCoordinate);
+    assert!(Error::NonFiniteCoordinate.to_string().contains("NaN or infinite"));
+}
+
+#[test]
+fn empty_meshes_are_infinitely_far_and_touch_nothing() {
+    let empty = Mesh::<f64>::new(vec![], vec![]).unwrap();
+    let t = tetra([0.0; 3]);
+    let (e, id) = (Engine::auto(), Pose::identity());
+    assert!(empty.is_empty() && empty.node_count() == 0);
+    assert_eq!(e.mesh_distance(&empty, &id, &t, &id).unwrap(), None);
+    assert_eq!(e.mesh_intersect(&t, &id, &empty, &id).unwrap(), None);
+    assert!(e.mesh_contacts(&t, &id, &empty, &id, 1.0, None).unwrap().is_empty());
+    assert_eq!(e.mesh_closest_point(&empty, &id, [0.0; 3]).unwrap(), None);
+}
+
+#[test]
+fn a_moved_mesh_answers_as_the_mesh_built_there() {
+    // translations by integers are exact: moving the mesh or building it moved is the same input
+    let (a, b) = (tetra([0.0; 3]), tetra([0.0; 3]));
+    let e = Engine::auto();
+    let pose = Pose::translation([2.0, 1.0, 0.5]);
+    let moved = e.mesh_distance(&a, &Pose::identity(), &b, &pose).unwrap().unwrap();
+    let built =
+        e.mesh_distance(&a, &Pose::identity(), &tetra([2.0, 1.0, 0.5]), &Pose::identity()).unwrap().unwrap();
+    assert_eq!(moved, built);
+    // the smallest of the 16 pairs' answers, bit for bit
+    let far = tetra([2.0, 1.0, 0.5]);
+    let all = (0..4).flat_map(|i| (0..4).map(move |j| (i, j)));
+    let min = all
+        .map(|(i, j)| tridist::sqdist_triangle_triangle(&a.triangle(i), &far.triangle(j)))
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(moved.sqdist, min);
+    assert_eq!(e.mesh_intersect(&a, &Pose::identity(), &b, &pose).unwrap(), None);
+    assert!(e
+        .mesh_intersect(&a, &Pose::identity(), &b, &Pose::translation([0.25, 0.25, 0.25]))
+        .unwrap()
+        .is_some());
+}

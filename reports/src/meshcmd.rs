@@ -1,0 +1,143 @@
+//! `tridist mesh`: the mesh queries on two OFF files in poses.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Args;
+use tridist::{Engine, Mesh, Pose, Real};
+use tridist_scenes::eval::Variant;
+
+use crate::{parse_variant, Fail, Prec};
+
+#[derive(Args, Debug)]
+pub struct MeshArgs {
+    /// The first mesh (OFF).
+    pub a: PathBuf,
+    /// The second mesh (OFF).
+    pub b: PathBuf,
+    /// Pose of the first mesh: `tx,ty,tz` or `tx,ty,tz,ax,ay,az,degrees` (translation, then
+    /// rotation about the axis, applied first).
+    #[arg(long, value_parser = parse_pose, default_value = "0,0,0")]
+    pub pose_a: [f64; 7],
+    /// Pose of the second mesh, as --pose-a.
+    #[arg(long, value_parser = parse_pose, default_value = "0,0,0")]
+    pub pose_b: [f64; 7],
+    /// Contacts: report the triangle pairs within this distance.
+    #[arg(long)]
+    pub margin: Option<f64>,
+    /// With --margin: print at most this many contacts (the closest first).
+    #[arg(long, default_value_t = 10)]
+    pub show: usize,
+    /// The closest point of the second mesh to this point `x,y,z`.
+    #[arg(long, value_parser = parse_point)]
+    pub point: Option<[f64; 3]>,
+    /// Working precision (the meshes are rounded to it).
+    #[arg(long, value_enum, default_value = "f64")]
+    pub precision: Prec,
+    /// Instruction set of the leaf kernels.
+    #[arg(long, default_value = "auto", value_parser = parse_variant)]
+    pub variant: Variant,
+}
+
+fn parse_list(s: &str) -> Result<Vec<f64>, String> {
+    let v: Result<Vec<f64>, _> = s.split(',').map(|x| x.trim().parse::<f64>()).collect();
+    let v = v.map_err(|e| format!("{e} in {s:?}"))?;
+    if v.iter().any(|x| !x.is_finite()) {
+        return Err(format!("non-finite number in {s:?}"));
+    }
+    Ok(v)
+}
+
+fn parse_pose(s: &str) -> Result<[f64; 7], String> {
+    let v = parse_list(s)?;
+    match v.len() {
+        3 => Ok([v[0], v[1], v[2], 0.0, 0.0, 1.0, 0.0]),
+        7 => Ok([v[0], v[1], v[2], v[3], v[4], v[5], v[6]]),
+        n => Err(format!("a pose is 3 or 7 numbers (tx,ty,tz[,ax,ay,az,degrees]), found {n}")),
+    }
+}
+
+fn parse_point(s: &str) -> Result<[f64; 3], String> {
+    let v = parse_list(s)?;
+    <[f64; 3]>::try_from(v.as_slice()).map_err(|_| format!("a point is 3 numbers x,y,z, found {}", v.len()))
+}
+
+fn pose<T: Real>(p: &[f64; 7]) -> Pose<T> {
+    let axis = [p[3], p[4], p[5]].map(T::from_f64);
+    Pose::from_axis_angle(axis, p[6].to_radians(), [p[0], p[1], p[2]].map(T::from_f64))
+}
+
+fn load<T: Real>(path: &std::path::Path) -> Result<Mesh<T>, Fail> {
+    let m = tridist_scenes::mesh::Mesh::load(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    let v = m.vertices.iter().map(|p| p.map(T::from_f64)).collect();
+    Mesh::new(v, m.triangles).map_err(|e| Fail(format!("{}: {e}", path.display())))
+}
+
+fn fmt3<T: Real>(p: [T; 3]) -> String {
+    format!("{} {} {}", p[0].to_f64(), p[1].to_f64(), p[2].to_f64())
+}
+
+pub fn cmd_mesh(a: &MeshArgs) -> Result<ExitCode, Fail> {
+    match a.precision {
+        Prec::F32 => run::<f32>(a),
+        Prec::F64 => run::<f64>(a),
+    }
+}
+
+fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
+    if !a.variant.available() {
+        return Err(Fail(format!("variant {} is not available on this CPU", a.variant.name())));
+    }
+    let e = Engine::new(a.variant.isa())?;
+    let t0 = Instant::now();
+    let (ma, mb) = (load::<T>(&a.a)?, load::<T>(&a.b)?);
+    let build = t0.elapsed().as_secs_f64();
+    let (pa, pb) = (pose::<T>(&a.pose_a), pose::<T>(&a.pose_b));
+    outln!(
+        "meshes: {} triangles ({} nodes), {} triangles ({} nodes); load and build {:.3} s; {} {}",
+        ma.len(),
+        ma.node_count(),
+        mb.len(),
+        mb.node_count(),
+        build,
+        e.isa(),
+        T::PRECISION.name()
+    );
+    let t0 = Instant::now();
+    match e.mesh_distance(&ma, &pa, &mb, &pb)? {
+        Some(d) => {
+            outln!("distance: {} (squared {})", d.sqdist.to_f64().sqrt(), d.sqdist.to_f64());
+            outln!("closest points: {} | {}", fmt3(d.p), fmt3(d.q));
+            outln!("triangle pair: {} {}", d.tri_a, d.tri_b);
+        }
+        None => outln!("distance: inf (a mesh is empty)"),
+    }
+    outln!("distance query: {:.3} ms", t0.elapsed().as_secs_f64() * 1e3);
+    let t0 = Instant::now();
+    match e.mesh_intersect(&ma, &pa, &mb, &pb)? {
+        Some((i, j)) => outln!("intersect: yes (triangles {i} {j})"),
+        None => outln!("intersect: no"),
+    }
+    outln!("intersection query: {:.3} ms", t0.elapsed().as_secs_f64() * 1e3);
+    if let Some(m) = a.margin {
+        let t0 = Instant::now();
+        let c = e.mesh_contacts(&ma, &pa, &mb, &pb, T::from_f64(m), None)?;
+        outln!("contacts within {m}: {} ({:.3} ms)", c.len(), t0.elapsed().as_secs_f64() * 1e3);
+        for k in c.iter().take(a.show) {
+            outln!("  {} {} {} | {} | {}", k.tri_a, k.tri_b, k.sqdist.to_f64().sqrt(), fmt3(k.p), fmt3(k.q));
+        }
+    }
+    if let Some(x) = a.point {
+        match e.mesh_closest_point(&mb, &pb, x.map(T::from_f64))? {
+            Some(p) => outln!(
+                "closest point of the second mesh: {} at {} (triangle {})",
+                fmt3(p.point),
+                p.sqdist.to_f64().sqrt(),
+                p.tri
+            ),
+            None => outln!("closest point: none (the second mesh is empty)"),
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
