@@ -35,7 +35,7 @@ pub struct Target {
 }
 
 /// Every target.
-pub const TARGETS: [Target; 9] = [
+pub const TARGETS: [Target; 10] = [
     Target { name: "tri_tri", run: tri_tri },
     Target { name: "seg_seg", run: seg_seg },
     Target { name: "point_tri", run: point_tri },
@@ -45,7 +45,19 @@ pub const TARGETS: [Target; 9] = [
     Target { name: "raw_bits", run: raw_bits },
     Target { name: "parsers", run: parsers },
     Target { name: "oracle_filter", run: oracle_filter },
+    Target { name: "mesh", run: mesh },
 ];
+
+/// The mesh queries (distance, contacts, intersection, closest point) on small fuzzed meshes
+/// in fuzzed poses, every variant and both precisions, against the exact brute force over all
+/// triangle pairs ([`crate::mesh_scenes::check_scene`]; input: [`crate::mesh_scenes::fuzz_scene`]).
+pub fn mesh(data: &[u8]) -> Verdict {
+    let Some(s) = crate::mesh_scenes::fuzz_scene(data) else { return Ok(()) };
+    let mut w = crate::mesh_scenes::Worst::default();
+    crate::mesh_scenes::check_scene::<f32>(&s, 0, &mut w)
+        .and_then(|()| crate::mesh_scenes::check_scene::<f64>(&s, 0, &mut w))
+        .map_err(|e| format!("{e} in {s:?}"))
+}
 
 /// The libFuzzer entry: runs target `name` on `data`, panicking with the violation (what
 /// libFuzzer records as a finding).

@@ -3,7 +3,9 @@
 //! and a pose for each.
 
 use crate::rng::Rng;
-use tridist::{Pose, Real};
+use rug::Rational;
+use tridist::{Engine, Isa, Mesh, Pose, Real};
+use tridist_oracle as oracle;
 
 /// The mesh scene families.
 pub const FAMILIES: &[&str] =
@@ -175,4 +177,224 @@ pub fn scene(family: &'static str, seed: u64, index: u64, k: usize) -> MeshScene
         _ => panic!("unknown mesh family {family}"),
     };
     MeshScene { family, a, b, pose_a, pose_b }
+}
+
+/// The largest E of the mesh queries measured by `scenes/tests/mesh.rs` over every family,
+/// precision and variant (2026-11-23, seed 1: a closest-point query, f64).
+pub const MEASURED_E: f64 = 1.498;
+/// The bound: measured x 1.25 + 0.25, as the triangle rows (`scenes/src/measured.in`).
+pub const BOUND_E: f64 = 2.2;
+
+fn moved<T: Real>(m: &Mesh<T>, p: &Pose<T>) -> Vec<[[f64; 3]; 3]> {
+    (0..m.len()).map(|i| m.triangle_at(i, p).map(|v| v.map(Real::to_f64))).collect()
+}
+
+fn exact_tri(t: &[[f64; 3]; 3]) -> [oracle::P3; 3] {
+    oracle::exact_points(t).expect("finite")
+}
+
+fn mag(ts: &[[[f64; 3]; 3]]) -> f64 {
+    ts.iter().flatten().flatten().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+fn rat(x: f64) -> Rational {
+    Rational::from_f64(x).expect("finite")
+}
+
+/// `Err(format!(...))` unless `cond`.
+macro_rules! ensure {
+    ($cond:expr, $($fmt:tt)*) => {
+        if !$cond {
+            return Err(format!($($fmt)*));
+        }
+    };
+}
+
+/// The largest E seen by [`check_scene`] and where.
+#[derive(Clone, Debug, Default)]
+pub struct Worst {
+    /// Largest E.
+    pub e: f64,
+    /// Where (family/index, precision, variant, what).
+    pub what: String,
+}
+
+/// Checks the mesh queries of every available instruction set on scene `s` in precision `T`
+/// against the exact brute force over all pairs (computed once); `idx` seeds the query
+/// points. `Err` with a reproducible description on a violation (see `scenes/tests/mesh.rs`
+/// for what is checked).
+pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, worst: &mut Worst) -> Result<(), String> {
+    let fam = s.family;
+    let (ma, mb) = (s.a.mesh::<T>(), s.b.mesh::<T>());
+    let (pa, pb) = (pose_in::<T>(&s.pose_a), pose_in::<T>(&s.pose_b));
+    let (ta, tb) = (moved(&ma, &pa), moved(&mb, &pb));
+    let (ea, eb): (Vec<_>, Vec<_>) = (ta.iter().map(exact_tri).collect(), tb.iter().map(exact_tri).collect());
+    let u = T::UNIT_ROUNDOFF.to_f64();
+    let big_s = mag(&ta).max(mag(&tb));
+    // all pairs, exactly
+    let mut d2 = vec![vec![Rational::new(); eb.len()]; ea.len()];
+    let mut best = None::<Rational>;
+    let mut any_hit = false;
+    for (i, x) in ea.iter().enumerate() {
+        for (j, y) in eb.iter().enumerate() {
+            let d = oracle::triangle_triangle(x, y).d2;
+            any_hit |= d == 0;
+            if best.as_ref().is_none_or(|b| &d < b) {
+                best = Some(d.clone());
+            }
+            d2[i][j] = d;
+        }
+    }
+    let best = best.expect("non-empty meshes");
+    let dstar = best.to_f64().sqrt();
+    let mut rng = Rng::new(idx);
+    let points: Vec<([T; 3], Rational)> = (0..4)
+        .map(|_| {
+            let t = &ta[rng.below(ta.len())];
+            let x = [0, 1, 2].map(|k| T::from_f64(t[0][k] + rng.range(-0.3, 0.3)));
+            let xe = oracle::exact_point(&x.map(Real::to_f64)).expect("finite");
+            (x, eb.iter().map(|t| oracle::point_triangle(&xe, t).d2).min().expect("non-empty"))
+        })
+        .collect();
+    let mut note = |v: f64, what: &str, tag: &str| {
+        if v > worst.e {
+            *worst = Worst { e: v, what: format!("{tag} {what}") };
+        }
+        ensure!(v <= BOUND_E, "{tag}: {what} E = {v} (bound {BOUND_E})");
+        Ok(())
+    };
+    for isa in Isa::ALL.into_iter().filter(|i| i.is_available()) {
+        let e = Engine::new(isa).expect("available");
+        let tag = format!("{fam}/{idx} {} {}", T::PRECISION.name(), e.isa());
+
+        // 1. distance
+        let r = e.mesh_distance(&ma, &pa, &mb, &pb).map_err(|e| format!("{tag}: {e}"))?.expect("non-empty");
+        let err = (r.sqdist.to_f64().sqrt() - dstar).abs() / (u * big_s);
+        let pair = d2[r.tri_a][r.tri_b].to_f64().sqrt();
+        let err_pair = (r.sqdist.to_f64().sqrt() - pair).abs() / (u * big_s);
+        for (pt, t) in [(r.p, &ea[r.tri_a]), (r.q, &eb[r.tri_b])] {
+            let x = oracle::exact_point(&pt.map(Real::to_f64)).expect("finite");
+            note(
+                oracle::point_triangle(&x, t).d2.to_f64().sqrt() / (u * big_s),
+                "point off its triangle",
+                &tag,
+            )?;
+        }
+        note(err, "distance", &tag)?;
+        note(err_pair, "reported pair", &tag)?;
+
+        // 2. contacts at a margin just above the minimum and at 5 % of the size
+        for margin in [dstar * 1.5 + 1e-3 * big_s.min(4.0), 0.05 * big_s.min(4.0)] {
+            let m = T::from_f64(margin);
+            let got = e.mesh_contacts(&ma, &pa, &mb, &pb, m, None).map_err(|e| format!("{tag}: {e}"))?;
+            let mut seen = std::collections::HashSet::new();
+            for c in &got {
+                ensure!(seen.insert((c.tri_a, c.tri_b)), "{tag}: pair {:?} twice", (c.tri_a, c.tri_b));
+                ensure!(c.sqdist.to_f64() <= m.to_f64() * m.to_f64(), "{tag}: contact beyond the margin");
+            }
+            for (i, row) in d2.iter().enumerate() {
+                for (j, d) in row.iter().enumerate() {
+                    let s = mag(&[ta[i], tb[j]]);
+                    let allow = 65.0 * u * s;
+                    let (lo, hi) = ((m.to_f64() - allow).max(0.0), m.to_f64() + allow);
+                    if *d <= rat(lo) * rat(lo) {
+                        ensure!(
+                            seen.contains(&(i, j)),
+                            "{tag}: pair ({i}, {j}) at {} within margin {margin} missed",
+                            d.to_f64().sqrt()
+                        );
+                    }
+                    if *d > rat(hi) * rat(hi) {
+                        ensure!(
+                            !seen.contains(&(i, j)),
+                            "{tag}: pair ({i}, {j}) at {} beyond margin {margin} reported",
+                            d.to_f64().sqrt()
+                        );
+                    }
+                }
+            }
+            // a cap keeps the first of the order (distance, then triangle numbers)
+            let capped =
+                e.mesh_contacts(&ma, &pa, &mb, &pb, m, Some(3)).map_err(|e| format!("{tag}: {e}"))?;
+            ensure!(
+                capped[..] == got[..got.len().min(3)],
+                "{tag}: capped contacts are not the first of the order"
+            );
+            ensure!(
+                got.windows(2)
+                    .all(|w| (w[0].sqdist, w[0].tri_a, w[0].tri_b) <= (w[1].sqdist, w[1].tri_a, w[1].tri_b)),
+                "{tag}: contacts out of order"
+            );
+        }
+
+        // 3. intersection
+        match e.mesh_intersect(&ma, &pa, &mb, &pb).map_err(|e| format!("{tag}: {e}"))? {
+            Some((i, j)) => {
+                let allow = 65.0 * u * mag(&[ta[i], tb[j]]);
+                ensure!(
+                    d2[i][j] <= rat(allow) * rat(allow),
+                    "{tag}: pair ({i}, {j}) said intersecting at {}",
+                    d2[i][j].to_f64().sqrt()
+                );
+            }
+            None => ensure!(!any_hit, "{tag}: intersecting meshes said apart"),
+        }
+
+        // 4. closest point of the second mesh to points around the first
+        for (x, exact_min) in &points {
+            let xe = oracle::exact_point(&x.map(Real::to_f64)).expect("finite");
+            let r =
+                e.mesh_closest_point(&mb, &pb, *x).map_err(|e| format!("{tag}: {e}"))?.expect("non-empty");
+            let s = big_s.max(x.iter().fold(0.0f64, |m, c| m.max(c.to_f64().abs())));
+            note(
+                (r.sqdist.to_f64().sqrt() - exact_min.to_f64().sqrt()).abs() / (u * s),
+                "closest point",
+                &tag,
+            )?;
+            let own = oracle::point_triangle(&xe, &eb[r.tri]).d2.to_f64().sqrt();
+            note((own - r.sqdist.to_f64().sqrt()).abs() / (u * s), "closest point's triangle", &tag)?;
+        }
+    }
+    Ok(())
+}
+
+/// The `mesh` fuzz target's input: two small meshes (up to 10 vertices and 12 triangles each,
+/// coordinates on a grid of 1/256 so that touching, coplanar and shared-vertex configurations
+/// are frequent), scaled by a power of two, optionally far from the origin, in two poses.
+pub fn fuzz_scene(data: &[u8]) -> Option<MeshScene> {
+    use arbitrary::{Arbitrary, Unstructured};
+    let mut u = Unstructured::new(data);
+    let scale = 2f64.powi(i32::from(i8::arbitrary(&mut u).ok()? % 40));
+    let far = if bool::arbitrary(&mut u).ok()? { 1e5 } else { 0.0 };
+    let mesh = |u: &mut Unstructured<'_>| -> Option<SceneMesh> {
+        let nv = 3 + usize::from(u8::arbitrary(u).ok()? % 8);
+        let nt = 1 + usize::from(u8::arbitrary(u).ok()? % 12);
+        let mut vertices = Vec::with_capacity(nv);
+        for _ in 0..nv {
+            let c = <[i16; 3]>::arbitrary(u).ok()?;
+            vertices.push(c.map(|x| f64::from(x) / 256.0 * scale / 64.0));
+        }
+        let mut triangles = Vec::with_capacity(nt);
+        for _ in 0..nt {
+            let t = <[u8; 3]>::arbitrary(u).ok()?;
+            triangles.push(t.map(|i| u32::from(i) % nv as u32));
+        }
+        Some(SceneMesh { vertices, triangles })
+    };
+    let a = mesh(&mut u)?;
+    let b = mesh(&mut u)?;
+    let pose = |u: &mut Unstructured<'_>| -> Option<Pose<f64>> {
+        let axis = <[i8; 3]>::arbitrary(u).ok()?.map(f64::from);
+        let axis = if axis == [0.0; 3] { [0.0, 0.0, 1.0] } else { axis };
+        // a quarter of the poses are translations only (exact motion)
+        let angle = if u8::arbitrary(u).ok()? % 4 == 0 {
+            0.0
+        } else {
+            f64::from(u16::arbitrary(u).ok()?) / 65536.0 * std::f64::consts::TAU
+        };
+        let t = <[i16; 3]>::arbitrary(u).ok()?.map(|x| f64::from(x) / 256.0 * scale / 64.0 + far);
+        Some(Pose::from_axis_angle(axis, angle, t))
+    };
+    let (pose_a, pose_b) = (pose(&mut u)?, pose(&mut u)?);
+    Some(MeshScene { family: "fuzz", a, b, pose_a, pose_b })
 }
