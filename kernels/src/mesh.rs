@@ -31,6 +31,25 @@ pub const LEAF: usize = 4;
 const FLUSH: usize = 64;
 
 /// An indexed triangle mesh and its bounding-volume hierarchy.
+///
+/// # Example (the README's)
+/// ```
+/// use tridist::{Engine, Mesh, Pose};
+/// let tet = |o: f64| Mesh::new(
+///     vec![[o, 0.0, 0.0], [o + 1.0, 0.0, 0.0], [o, 1.0, 0.0], [o, 0.0, 1.0]],
+///     vec![[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]],
+/// ).unwrap();
+/// let (a, b) = (tet(0.0), tet(0.0));
+/// let (e, here, there) = (Engine::auto(), Pose::identity(), Pose::translation([3.0, 0.0, 0.0]));
+/// let d = e.mesh_distance(&a, &here, &b, &there)?.unwrap();        // closest pair, points
+/// assert_eq!((d.sqdist, d.tri_a), (4.0, 0));
+/// assert_eq!(e.mesh_intersect(&a, &here, &b, &there)?, None);      // first certified hit
+/// let contacts = e.mesh_contacts(&a, &here, &b, &there, 2.5, None)?; // pairs within a margin
+/// assert_eq!(contacts.len(), 12);
+/// let p = e.mesh_closest_point(&b, &there, [5.0, 0.0, 0.0])?.unwrap(); // point to mesh
+/// assert_eq!(p.sqdist, 1.0);
+/// # Ok::<(), tridist::Error>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct Mesh<T> {
     vertices: Vec<Point<T>>,

@@ -210,6 +210,16 @@ macro_rules! ensure {
     };
 }
 
+/// `|err| / (u S)`: 0 when the error is 0 (also for S = 0, all coordinates zero; found by the
+/// `mesh` fuzz target), the smallest positive normal standing in for a zero S otherwise.
+fn excess(err: f64, u: f64, s: f64) -> f64 {
+    if err == 0.0 {
+        0.0
+    } else {
+        err.abs() / (u * s.max(f64::MIN_POSITIVE))
+    }
+}
+
 /// The largest E seen by [`check_scene`] and where.
 #[derive(Clone, Debug, Default)]
 pub struct Worst {
@@ -269,13 +279,13 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, worst: &mut Worst) -> Resul
 
         // 1. distance
         let r = e.mesh_distance(&ma, &pa, &mb, &pb).map_err(|e| format!("{tag}: {e}"))?.expect("non-empty");
-        let err = (r.sqdist.to_f64().sqrt() - dstar).abs() / (u * big_s);
+        let err = excess(r.sqdist.to_f64().sqrt() - dstar, u, big_s);
         let pair = d2[r.tri_a][r.tri_b].to_f64().sqrt();
-        let err_pair = (r.sqdist.to_f64().sqrt() - pair).abs() / (u * big_s);
+        let err_pair = excess(r.sqdist.to_f64().sqrt() - pair, u, big_s);
         for (pt, t) in [(r.p, &ea[r.tri_a]), (r.q, &eb[r.tri_b])] {
             let x = oracle::exact_point(&pt.map(Real::to_f64)).expect("finite");
             note(
-                oracle::point_triangle(&x, t).d2.to_f64().sqrt() / (u * big_s),
+                excess(oracle::point_triangle(&x, t).d2.to_f64().sqrt(), u, big_s),
                 "point off its triangle",
                 &tag,
             )?;
@@ -347,12 +357,12 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, worst: &mut Worst) -> Resul
                 e.mesh_closest_point(&mb, &pb, *x).map_err(|e| format!("{tag}: {e}"))?.expect("non-empty");
             let s = big_s.max(x.iter().fold(0.0f64, |m, c| m.max(c.to_f64().abs())));
             note(
-                (r.sqdist.to_f64().sqrt() - exact_min.to_f64().sqrt()).abs() / (u * s),
+                excess(r.sqdist.to_f64().sqrt() - exact_min.to_f64().sqrt(), u, s),
                 "closest point",
                 &tag,
             )?;
             let own = oracle::point_triangle(&xe, &eb[r.tri]).d2.to_f64().sqrt();
-            note((own - r.sqdist.to_f64().sqrt()).abs() / (u * s), "closest point's triangle", &tag)?;
+            note(excess(own - r.sqdist.to_f64().sqrt(), u, s), "closest point's triangle", &tag)?;
         }
     }
     Ok(())

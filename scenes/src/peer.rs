@@ -27,7 +27,19 @@ pub trait Peer: Float {
     fn distance(a: &Self::Shape, b: &Self::Shape) -> Self;
     /// FCL's distances of flat pairs (NaN when FCL was not built).
     fn fcl(a: &[Self], b: &[Self], out: &mut [Self]);
+    /// parry's `TriMesh` in this precision.
+    type Mesh;
+    /// The mesh as a parry `TriMesh` (its BVH built), or `None` when parry refuses it.
+    fn trimesh(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Option<Self::Mesh>;
+    /// parry's distance (not squared) between two meshes, each placed by
+    /// `(translation, axis * angle)` (NaN when unsupported).
+    fn mesh_distance(a: &Self::Mesh, pa: &PeerPose, b: &Self::Mesh, pb: &PeerPose) -> f64;
+    /// parry's `intersection_test` of two placed meshes (`None` when unsupported).
+    fn mesh_intersects(a: &Self::Mesh, pa: &PeerPose, b: &Self::Mesh, pb: &PeerPose) -> Option<bool>;
 }
+
+/// A placement for parry: translation and scaled rotation axis (axis times angle in radians).
+pub type PeerPose = ([f64; 3], [f64; 3]);
 
 /// Implements [`Peer`] for one parry crate (the two differ only in their scalar type).
 macro_rules! peer {
@@ -46,7 +58,29 @@ macro_rules! peer {
             fn fcl(a: &[$t], b: &[$t], out: &mut [$t]) {
                 <$t as FclCall>::fcl_call(a, b, out)
             }
+            type Mesh = $parry::shape::TriMesh;
+            fn trimesh(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Option<Self::Mesh> {
+                let v = vertices.iter().map(|p| $parry::math::Vector::new(p[0] as $t, p[1] as $t, p[2] as $t)).collect();
+                $parry::shape::TriMesh::new(v, triangles.to_vec()).ok()
+            }
+            fn mesh_distance(a: &Self::Mesh, pa: &PeerPose, b: &Self::Mesh, pb: &PeerPose) -> f64 {
+                let pose_of = |p: &PeerPose| {
+                    let v = |x: [f64; 3]| $parry::math::Vector::new(x[0] as $t, x[1] as $t, x[2] as $t);
+                    $parry::math::Pose::new(v(p.0), v(p.1))
+                };
+                let (x, y) = (pose_of(pa), pose_of(pb));
+                $parry::query::distance(&x, a, &y, b).map_or(f64::NAN, |d| f64::from(d.distance))
+            }
+            fn mesh_intersects(a: &Self::Mesh, pa: &PeerPose, b: &Self::Mesh, pb: &PeerPose) -> Option<bool> {
+                let pose_of = |p: &PeerPose| {
+                    let v = |x: [f64; 3]| $parry::math::Vector::new(x[0] as $t, x[1] as $t, x[2] as $t);
+                    $parry::math::Pose::new(v(p.0), v(p.1))
+                };
+                let (x, y) = (pose_of(pa), pose_of(pb));
+                $parry::query::intersection_test(&x, a, &y, b).ok().map(|r| r.intersecting)
+            }
         }
+
     };
 }
 peer!(f32, parry3d);
