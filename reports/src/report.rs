@@ -361,6 +361,7 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
     )?;
     write_file(&s.out_dir, "penalty.svg", &penalty_plot(&pen32, &pen64).render()?)?;
     write_file(&s.out_dir, "TRADEOFF.md", &tradeoff_md(s, seed, &m, &pen32, &pen64))?;
+    write_file(&s.out_dir, "MESH.md", &crate::meshreport::mesh_md(s, seed)?)?;
     prog.step("writing reports");
     if let Some(readme) = &s.readme {
         update_readme(readme, &m)?;

@@ -60,7 +60,10 @@ macro_rules! peer {
             }
             type Mesh = $parry::shape::TriMesh;
             fn trimesh(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Option<Self::Mesh> {
-                let v = vertices.iter().map(|p| $parry::math::Vector::new(p[0] as $t, p[1] as $t, p[2] as $t)).collect();
+                let v = vertices
+                    .iter()
+                    .map(|p| $parry::math::Vector::new(p[0] as $t, p[1] as $t, p[2] as $t))
+                    .collect();
                 $parry::shape::TriMesh::new(v, triangles.to_vec()).ok()
             }
             fn mesh_distance(a: &Self::Mesh, pa: &PeerPose, b: &Self::Mesh, pb: &PeerPose) -> f64 {
@@ -80,7 +83,6 @@ macro_rules! peer {
                 $parry::query::intersection_test(&x, a, &y, b).ok().map(|r| r.intersecting)
             }
         }
-
     };
 }
 peer!(f32, parry3d);

@@ -12,7 +12,7 @@
 //!   `allow` of touching; `None` only when every pair is exactly apart by more than 0;
 //! - closest point: as distance, for query points around the first mesh.
 
-use tridist_scenes::mesh_scenes::{check_scene, scene, Worst, FAMILIES, MEASURED_E};
+use tridist_scenes::mesh_scenes::{check_scene, scene, Limits, Worst, FAMILIES, MEASURED_E};
 
 /// Scenes per family and precision (blobs of 7 segments: 84 triangles, 7056 pairs).
 const SCENES: u64 = 4;
@@ -24,8 +24,8 @@ fn mesh_queries_against_exact_brute_force() {
     for fam in FAMILIES {
         for idx in 0..SCENES {
             let s = scene(fam, 1, idx, K);
-            check_scene::<f32>(&s, idx, &mut worst).unwrap();
-            check_scene::<f64>(&s, idx, &mut worst).unwrap();
+            check_scene::<f32>(&s, idx, &Limits::MEASURED, &mut worst).unwrap();
+            check_scene::<f64>(&s, idx, &Limits::MEASURED, &mut worst).unwrap();
         }
     }
     println!("largest mesh E: {:.3} at {} (measured row: {MEASURED_E})", worst.e, worst.what);
