@@ -62,6 +62,9 @@ enum Cmd {
         /// Time budget per throughput measurement in milliseconds [default: 400, --quick 60].
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
         budget_ms: Option<u32>,
+        /// Poses of the mesh trajectory (MESH.md) [default: 12; 2 = the two ends only].
+        #[arg(long, value_parser = clap::value_parser!(u32).range(2..=1000))]
+        mesh_poses: Option<u32>,
     },
     /// Answer the pairs on stdin with any kernel, or the exact oracle.
     ///
@@ -284,8 +287,8 @@ fn main() -> ExitCode {
         }
     };
     let res = match cli.cmd {
-        Cmd::Report { quick, out, cases, pairs, budget_ms } => {
-            cmd_report(quick, out, cases, pairs, budget_ms)
+        Cmd::Report { quick, out, cases, pairs, budget_ms, mesh_poses } => {
+            cmd_report(quick, out, cases, pairs, budget_ms, mesh_poses)
         }
         Cmd::Eval(a) => cmd_eval(&a),
         Cmd::Bench(a) => cmd_bench(&a),
@@ -314,11 +317,14 @@ fn cmd_report(
     cases: Option<u32>,
     pairs: Option<u32>,
     budget_ms: Option<u32>,
+    mesh_poses: Option<u32>,
 ) -> Result<ExitCode, Fail> {
     let pick = |x: Option<u32>, q: u32, full: u32| x.unwrap_or(if quick { q } else { full });
     let mut command =
         format!("cargo run --release -p tridist-reports -- report{}", if quick { " --quick" } else { "" });
-    for (k, v) in [("--cases", cases), ("--pairs", pairs), ("--budget-ms", budget_ms)] {
+    for (k, v) in
+        [("--cases", cases), ("--pairs", pairs), ("--budget-ms", budget_ms), ("--mesh-poses", mesh_poses)]
+    {
         if let Some(v) = v {
             command.push_str(&format!(" {k} {v}"));
         }
@@ -327,6 +333,7 @@ fn cmd_report(
         cases: pick(cases, 150, 1500) as usize,
         pairs: pick(pairs, 4000, 20_000) as usize,
         budget: Duration::from_millis(pick(budget_ms, 60, 400).into()),
+        mesh_poses: mesh_poses.unwrap_or(12) as usize,
         command,
         readme: out.is_none().then(|| root().join("README.md")),
         out_dir: out.unwrap_or_else(|| root().join("reports")),

@@ -12,9 +12,6 @@ use tridist_scenes::workload::median_time;
 use crate::common::header;
 use crate::report::Settings;
 
-/// Poses along the trajectory.
-const POSES: usize = 12;
-
 /// A carried mesh, centred and scaled to [-1, 1]^3 (largest side).
 fn normalised(name: &str) -> Result<tridist_scenes::mesh::Mesh, String> {
     let mut m = tridist_scenes::mesh::carried(name).map_err(|e| format!("{name}: {e}"))?;
@@ -37,8 +34,8 @@ fn normalised(name: &str) -> Result<tridist_scenes::mesh::Mesh, String> {
 /// Pose `k` of the trajectory: the second mesh from 3 units to the +x side, through the first,
 /// to 3 units to the -x side, rotating once about the axis (1, 2, 3) on the way. As
 /// translation and scaled axis (parry's form) and as tridist's matrix.
-fn pose_k(k: usize) -> (PeerPose, Pose<f64>) {
-    let t = (k as f64) / (POSES - 1) as f64;
+fn pose_k(k: usize, poses: usize) -> (PeerPose, Pose<f64>) {
+    let t = (k as f64) / (poses.max(2) - 1) as f64;
     let x = 3.0 - 6.0 * t;
     let angle = std::f64::consts::TAU * t;
     let n = 14f64.sqrt();
@@ -64,6 +61,7 @@ fn rows<T: Peer + Real>(
     a: &tridist_scenes::mesh::Mesh,
     b: &tridist_scenes::mesh::Mesh,
     budget: Duration,
+    poses: usize,
 ) -> Result<(f64, f64, Vec<Row>), String> {
     let mesh = |m: &tridist_scenes::mesh::Mesh| {
         Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone())
@@ -81,8 +79,8 @@ fn rows<T: Peer + Real>(
     let id = Pose::<T>::identity();
     let peer_id: PeerPose = ([0.0; 3], [0.0; 3]);
     let mut out = Vec::new();
-    for k in 0..POSES {
-        let (pp, pose) = pose_k(k);
+    for k in 0..poses {
+        let (pp, pose) = pose_k(k, poses);
         let pose = Pose {
             rotation: pose.rotation.map(|r| r.map(T::from_f64)),
             translation: pose.translation.map(T::from_f64),
@@ -136,15 +134,19 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<String, String> {
     let mut t = header("Mesh queries: tridist and parry3d on the same meshes and poses", &s.command, seed);
     let _ = writeln!(
         t,
-        "Armadillo ({} triangles) fixed at the origin, fandisk ({} triangles) moved along the seed's trajectory: {POSES} poses from 3 units on one side through the armadillo to 3 units on the other, rotating once about (1, 2, 3); both meshes scaled to [-1, 1]^3. tridist: `Engine::auto()` ({}), binary AABB tree, 4 triangles per leaf, the batch kernels at the leaves. parry3d / parry3d-f64 0.31: `TriMesh`, `query::distance` and `query::intersection_test`. Times: the median of repeated calls within {} ms per measurement, one thread, the same run. Contacts: the triangle pairs within 0.02 (1 % of the scene's size). Agreement: the distances of both libraries (the poses are built from the same axis and angle; parry rotates by a quaternion, tridist by a matrix, so they differ in rounding) and the intersection verdicts.\n",
+        "Armadillo ({} triangles) fixed at the origin, fandisk ({} triangles) moved along the seed's trajectory: {} poses from 3 units on one side through the armadillo to 3 units on the other, rotating once about (1, 2, 3); both meshes scaled to [-1, 1]^3. tridist: `Engine::auto()` ({}), binary AABB tree, 4 triangles per leaf, the batch kernels at the leaves. parry3d / parry3d-f64 0.31: `TriMesh`, `query::distance` and `query::intersection_test`. Times: the median of repeated calls within {} ms per measurement, one thread, the same run. Contacts: the triangle pairs within 0.02 (1 % of the scene's size). Agreement: the distances of both libraries (the poses are built from the same axis and angle; parry rotates by a quaternion, tridist by a matrix, so they differ in rounding) and the intersection verdicts.\n",
         a.triangles.len(),
         b.triangles.len(),
+        s.mesh_poses,
         Engine::auto().isa(),
         s.budget.as_millis()
     );
     for p in ["f32", "f64"] {
-        let (build, parry_build, rows) =
-            if p == "f32" { rows::<f32>(&a, &b, s.budget)? } else { rows::<f64>(&a, &b, s.budget)? };
+        let (build, parry_build, rows) = if p == "f32" {
+            rows::<f32>(&a, &b, s.budget, s.mesh_poses)?
+        } else {
+            rows::<f64>(&a, &b, s.budget, s.mesh_poses)?
+        };
         let _ = writeln!(
             t,
             "## {p}\n\nTree build of both meshes: tridist {} ms, parry3d {} ms.\n",

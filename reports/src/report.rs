@@ -28,6 +28,8 @@ pub struct Settings {
     pub pairs: usize,
     /// Time budget per throughput measurement.
     pub budget: Duration,
+    /// Poses of the mesh trajectory.
+    pub mesh_poses: usize,
     /// The command line to print in headers.
     pub command: String,
     /// Where to write.
@@ -847,7 +849,7 @@ fn update_readme(path: &Path, m: &Measured) -> Result<(), String> {
             ratio(q(wl, bn, "f32"), q(wl, "scalar", "f32"))
         );
     }
-    let _ = writeln!(s, "\n![throughput vs error](reports/tradeoff.svg)\n\nFull tables: [reports/ACCURACY.md](reports/ACCURACY.md), [reports/THROUGHPUT.md](reports/THROUGHPUT.md), [reports/TRADEOFF.md](reports/TRADEOFF.md).");
+    let _ = writeln!(s, "\n![throughput vs error](reports/tradeoff.svg)\n\nFull tables: [reports/ACCURACY.md](reports/ACCURACY.md), [reports/THROUGHPUT.md](reports/THROUGHPUT.md), [reports/TRADEOFF.md](reports/TRADEOFF.md), mesh queries against parry3d: [reports/MESH.md](reports/MESH.md).");
     let out = format!("{}{}{}", &text[..i], s, &text[j..]);
     std::fs::write(path, out).map_err(|e| format!("{}: {e}", path.display()))
 }
