@@ -203,11 +203,13 @@ fn rat(x: f64) -> Rational {
 
 /// `Err(format!(...))` unless `cond`.
 macro_rules! ensure {
-    ($cond:expr, $($fmt:tt)*) => {
-        if !$cond {
+    ($cond:expr, $($fmt:tt)*) => {{
+        // through a bool: a NaN comparison fails the check
+        let ok: bool = $cond;
+        if !ok {
             return Err(format!($($fmt)*));
         }
-    };
+    }};
 }
 
 /// The largest E allowed to the mesh answers: `distance` for the mesh distance, the reported
