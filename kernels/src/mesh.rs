@@ -423,8 +423,8 @@ impl Engine {
             for (k, cp) in out.iter().enumerate() {
                 check_finite(cp.sqdist)?;
                 let d = cp.sqdist.to_f64();
-                // ties go to the smaller triangle numbers: the answer does not depend on the
-                // traversal order
+                // ties among the pairs answered go to the smaller triangle numbers (pairs at
+                // exactly the best distance are never pruned: box gaps are lower bounds)
                 let (i, j) = pend.ids[k];
                 let better = match best {
                     None => true,
