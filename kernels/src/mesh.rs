@@ -337,13 +337,42 @@ impl<T: Real> Pending<T> {
         Pending { ids: Vec::with_capacity(FLUSH + LEAF * LEAF), a: Vec::new(), b: Vec::new() }
     }
 
-    fn push_leaves(&mut self, ma: &Mesh<T>, pa: &Pose<T>, la: &Node, mb: &Mesh<T>, pb: &Pose<T>, lb: &Node) {
+    /// Gathers the triangle pairs of two leaves, moved; with `limit`, only the pairs whose
+    /// moved triangles' boxes are not farther apart (squared, a lower bound) than `limit`.
+    #[allow(clippy::too_many_arguments)]
+    fn push_leaves(
+        &mut self,
+        ma: &Mesh<T>,
+        pa: &Pose<T>,
+        la: &Node,
+        mb: &Mesh<T>,
+        pb: &Pose<T>,
+        lb: &Node,
+        limit: Option<f64>,
+    ) {
+        let bx = |t: &Triangle<T>| {
+            let f = t.map(|v| v.map(Real::to_f64));
+            let lo = [0, 1, 2].map(|k| f[0][k].min(f[1][k]).min(f[2][k]));
+            let hi = [0, 1, 2].map(|k| f[0][k].max(f[1][k]).max(f[2][k]));
+            (lo, hi)
+        };
+        let mut tb = [[[T::ZERO; 3]; 3]; LEAF];
+        let mut bb = [([0.0; 3], [0.0; 3]); LEAF];
+        let js = &mb.order[lb.first as usize..(lb.first + lb.count) as usize];
+        for (k, &j) in js.iter().enumerate() {
+            tb[k] = mb.triangle_at(j as usize, pb);
+            bb[k] = bx(&tb[k]);
+        }
         for &i in &ma.order[la.first as usize..(la.first + la.count) as usize] {
             let ta = ma.triangle_at(i as usize, pa);
-            for &j in &mb.order[lb.first as usize..(lb.first + lb.count) as usize] {
+            let ba = bx(&ta);
+            for (k, &j) in js.iter().enumerate() {
+                if limit.is_some_and(|l| box_gap2(&ba, &bb[k]) > l) {
+                    continue;
+                }
                 self.ids.push((i, j));
                 self.a.push(ta);
-                self.b.push(mb.triangle_at(j as usize, pb));
+                self.b.push(tb[k]);
             }
         }
     }
@@ -453,9 +482,9 @@ impl Engine {
             }
             let (nx, ny) = (&a.nodes[x as usize], &b.nodes[y as usize]);
             if nx.count > 0 && ny.count > 0 {
-                pend.push_leaves(a, pose_a, nx, b, pose_b, ny);
-                // the first leaf pair (nearest first) runs at once: its answer prunes the rest
-                if pend.ids.len() >= FLUSH || best.is_none() {
+                pend.push_leaves(a, pose_a, nx, b, pose_b, ny, Some(best_d));
+                // the first pairs (nearest first) run at once: their answer prunes the rest
+                if pend.ids.len() >= FLUSH || (best.is_none() && !pend.ids.is_empty()) {
                     flush(&mut pend, &mut best, &mut best_d)?;
                 }
             } else {
@@ -538,7 +567,7 @@ impl Engine {
             }
             let (nx, ny) = (&a.nodes[x as usize], &b.nodes[y as usize]);
             if nx.count > 0 && ny.count > 0 {
-                pend.push_leaves(a, pose_a, nx, b, pose_b, ny);
+                pend.push_leaves(a, pose_a, nx, b, pose_b, ny, Some(lim * lim));
                 if pend.ids.len() >= FLUSH {
                     flush(&mut pend, &mut found)?;
                 }
@@ -613,7 +642,7 @@ impl Engine {
             }
             let (nx, ny) = (&a.nodes[x as usize], &b.nodes[y as usize]);
             if nx.count > 0 && ny.count > 0 {
-                pend.push_leaves(a, pose_a, nx, b, pose_b, ny);
+                pend.push_leaves(a, pose_a, nx, b, pose_b, ny, Some(lim * lim));
                 if pend.ids.len() >= FLUSH {
                     if let Some(h) = flush(&mut pend)? {
                         return Ok(Some(h));
