@@ -15,19 +15,7 @@ use crate::report::Settings;
 /// A carried mesh, centred and scaled to [-1, 1]^3 (largest side).
 fn normalised(name: &str) -> Result<tridist_scenes::mesh::Mesh, String> {
     let mut m = tridist_scenes::mesh::carried(name).map_err(|e| format!("{name}: {e}"))?;
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for v in &m.vertices {
-        for k in 0..3 {
-            lo[k] = lo[k].min(v[k]);
-            hi[k] = hi[k].max(v[k]);
-        }
-    }
-    let c = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
-    let half = (0..3).map(|k| 0.5 * (hi[k] - lo[k])).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
-    for v in &mut m.vertices {
-        *v = [0, 1, 2].map(|k| (v[k] - c[k]) / half);
-    }
+    tridist_scenes::protocol::normalise(&mut m);
     Ok(m)
 }
 

@@ -29,8 +29,8 @@ impl Grouping {
     }
 }
 
-/// The mesh's triangles, centred and scaled to fit [-1, 1]^3.
-pub fn normalised(m: &Mesh) -> Vec<Triangle<f64>> {
+/// The mesh centred and scaled to fit [-1, 1]^3 (its largest side).
+pub fn normalise(m: &mut Mesh) {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for v in &m.vertices {
@@ -41,7 +41,16 @@ pub fn normalised(m: &Mesh) -> Vec<Triangle<f64>> {
     }
     let c = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
     let s = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max) / 2.0;
-    (0..m.triangles.len()).map(|i| m.triangle(i).map(|p| [0, 1, 2].map(|k| (p[k] - c[k]) / s))).collect()
+    for v in &mut m.vertices {
+        *v = [0, 1, 2].map(|k| (v[k] - c[k]) / s);
+    }
+}
+
+/// The mesh's triangles, centred and scaled to fit [-1, 1]^3 ([`normalise`]).
+pub fn normalised(m: &Mesh) -> Vec<Triangle<f64>> {
+    let mut m = m.clone();
+    normalise(&mut m);
+    (0..m.triangles.len()).map(|i| m.triangle(i)).collect()
 }
 
 /// `n` triangle pairs (moving, static) following the protocol: 10 steps, 4 moving triangles per
