@@ -1,5 +1,5 @@
 //! Runs one query on one workload for a few seconds (for `perf record`):
-//! `cargo run --release -p tridist-benches --example spin -- tri_tri random f32 avx2fma 5`
+//! `cargo run --release -p tridist-benches --bin spin -- tri_tri random f32 avx2fma 5`
 use tridist::{Engine, Intersection, Isa, Query};
 use tridist_scenes::workload::Workload;
 use tridist_scenes::{families, Family};
