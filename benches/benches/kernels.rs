@@ -2,7 +2,7 @@
 //! standard workloads (`protocol::standard`: random unit-cube pairs, nearby Armadillo
 //! triangles, and the paper's protocol: Armadillo vs Armadillo, CAD vs CAD, CAD vs Armadillo;
 //! four triangles sharing a vertex, or four random ones, against one), plus the threaded batch
-//! path. Inputs come from the shared generators with fixed seeds; every
+//! path, and the mesh queries along the mesh report's trajectory (`mesh/`). Inputs come from the shared generators with fixed seeds; every
 //! benchmark first checks its results against the scalar AoS variant. The triangle-distance
 //! groups also time the peers on the same inputs in the same run: FCL's PQP `TriangleDistance`
 //! (when its headers were installed at build time) and parry3d (f32) / parry3d-f64
@@ -119,5 +119,57 @@ fn threads(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, kernels, threads);
+/// The mesh queries along the seed's trajectory (the mesh report's 12 poses: Armadillo fixed,
+/// fandisk moved from 3 units on one side through it to the other, both scaled to
+/// [-1, 1]^3): one iteration answers all poses, so the time per pose is the time / 12.
+fn meshes(c: &mut Criterion) {
+    fn run<T: tridist::Real>(c: &mut Criterion, name: &str) {
+        let load = |n: &str| {
+            let m = protocol::carried_normalised(n).expect("data/meshes");
+            tridist::Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles)
+                .expect("finite mesh")
+        };
+        let (a, b) = (load("armadillo.off"), load("fandisk_large.off"));
+        const POSES: usize = 12;
+        let poses: Vec<tridist::Pose<T>> = (0..POSES)
+            .map(|k| {
+                let p = protocol::trajectory_pose(k, POSES).1;
+                tridist::Pose {
+                    rotation: p.rotation.map(|r| r.map(T::from_f64)),
+                    translation: p.translation.map(T::from_f64),
+                }
+            })
+            .collect();
+        let (e, id, margin) = (Engine::auto(), tridist::Pose::<T>::identity(), T::from_f64(0.02));
+        let mut g = c.benchmark_group(format!("mesh/arm_fandisk/{name}"));
+        g.throughput(Throughput::Elements(POSES as u64));
+        g.sample_size(10);
+        g.bench_function("distance", |bch| {
+            bch.iter(|| {
+                poses
+                    .iter()
+                    .map(|p| e.mesh_distance(&a, &id, &b, p).expect("finite").is_some() as usize)
+                    .sum::<usize>()
+            })
+        });
+        g.bench_function("contacts_0.02", |bch| {
+            bch.iter(|| {
+                poses
+                    .iter()
+                    .map(|p| e.mesh_contacts(&a, &id, &b, p, margin, None).expect("finite").len())
+                    .sum::<usize>()
+            })
+        });
+        g.bench_function("intersect", |bch| {
+            bch.iter(|| {
+                poses.iter().filter(|p| e.mesh_intersect(&a, &id, &b, p).expect("finite").is_some()).count()
+            })
+        });
+        g.finish();
+    }
+    run::<f32>(c, "f32");
+    run::<f64>(c, "f64");
+}
+
+criterion_group!(benches, kernels, threads, meshes);
 criterion_main!(benches);

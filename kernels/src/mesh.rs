@@ -7,14 +7,15 @@
 //! A mesh answer is the kernels' answer on the triangles *as moved*: each vertex is moved by
 //! [`Pose::apply`] in the working precision (within about `3 u` of its magnitude of the exact
 //! motion), and those rounded triangles are what the kernels answer, within the engine's
-//! [`crate::Tolerance`]. Pruning never changes an answer: a node pair is skipped only when the
+//! [`crate::Tolerance`]. Pruning never loses an answer: a node pair is skipped only when the
 //! bounding boxes (in f64, enlarged by the rounding of the motion) prove every triangle pair in
-//! it farther than the answer so far (distance), than the margin (contacts) or apart
-//! (intersection). So the distance is within the tolerance of the exact minimum over all
-//! pairs of moved triangles, the contact set holds every pair within the margin (decided by the
-//! kernels as [`Engine::within_margin_triangle_triangle`] does), and intersection is the
-//! kernels' verdict on some pair or `None` when every pair is disjoint. The differential tests
-//! (`scenes/tests/mesh.rs`) check this against an exact brute force over all pairs.
+//! it farther than the margin (contacts), apart (intersection), or farther than the smallest
+//! answer so far (distance; the search ends at an answer of 0). So the distance is within the
+//! tolerance of the exact minimum over all pairs of moved triangles, the contact set holds
+//! every pair within the margin (decided by the kernels as
+//! [`Engine::within_margin_triangle_triangle`] does), and intersection is the kernels' verdict
+//! on some pair or `None` when every pair is disjoint. The three queries share one traversal.
+//! The differential tests (`scenes/tests/mesh.rs`) check this against an exact brute force over all pairs.
 //!
 //! # The tree
 //! A binary tree of axis-aligned boxes in the mesh's own frame, split at the median centroid
@@ -284,7 +285,7 @@ impl Moved {
 }
 
 /// Squared distance between two boxes, rounded down (a lower bound of the exact one).
-fn box_gap2(a: &([f64; 3], [f64; 3]), b: &([f64; 3], [f64; 3])) -> f64 {
+fn box_gap2(a: &Aabb, b: &Aabb) -> f64 {
     let mut s = 0.0;
     for k in 0..3 {
         let g = (b.0[k] - a.1[k]).max(a.0[k] - b.1[k]).max(0.0);
@@ -305,7 +306,7 @@ fn point_gap2(x: &[f64; 3], b: &([f64; 3], [f64; 3])) -> f64 {
 
 /// The largest absolute coordinate of two boxes: a bound of the magnitude `S` of every
 /// triangle pair in them.
-fn magnitude(a: &([f64; 3], [f64; 3]), b: &([f64; 3], [f64; 3])) -> f64 {
+fn magnitude(a: &Aabb, b: &Aabb) -> f64 {
     a.0.iter().chain(&a.1).chain(&b.0).chain(&b.1).fold(0.0f64, |s, v| s.max(v.abs()))
 }
 
@@ -325,6 +326,18 @@ fn reach<T: Real>(tol: &crate::Tolerance, mag: f64, margin: f64) -> f64 {
     }
 }
 
+/// An axis-aligned box (lower and upper corner) in f64.
+type Aabb = ([f64; 3], [f64; 3]);
+
+/// The box of a triangle, in f64 (exact: every `T` converts exactly).
+fn tri_box<T: Real>(t: &Triangle<T>) -> Aabb {
+    let f = t.map(|v| v.map(Real::to_f64));
+    (
+        [0, 1, 2].map(|k| f[0][k].min(f[1][k]).min(f[2][k])),
+        [0, 1, 2].map(|k| f[0][k].max(f[1][k]).max(f[2][k])),
+    )
+}
+
 /// Candidate triangle pairs, moved, waiting for the kernels.
 struct Pending<T> {
     ids: Vec<(u32, u32)>,
@@ -337,42 +350,17 @@ impl<T: Real> Pending<T> {
         Pending { ids: Vec::with_capacity(FLUSH + LEAF * LEAF), a: Vec::new(), b: Vec::new() }
     }
 
-    /// Gathers the triangle pairs of two leaves, moved; with `limit`, only the pairs whose
-    /// moved triangles' boxes are not farther apart (squared, a lower bound) than `limit`.
-    #[allow(clippy::too_many_arguments)]
-    fn push_leaves(
-        &mut self,
-        ma: &Mesh<T>,
-        pa: &Pose<T>,
-        la: &Node,
-        mb: &Mesh<T>,
-        pb: &Pose<T>,
-        lb: &Node,
-        limit: Option<f64>,
-    ) {
-        let bx = |t: &Triangle<T>| {
-            let f = t.map(|v| v.map(Real::to_f64));
-            let lo = [0, 1, 2].map(|k| f[0][k].min(f[1][k]).min(f[2][k]));
-            let hi = [0, 1, 2].map(|k| f[0][k].max(f[1][k]).max(f[2][k]));
-            (lo, hi)
-        };
-        let mut tb = [[[T::ZERO; 3]; 3]; LEAF];
-        let mut bb = [([0.0; 3], [0.0; 3]); LEAF];
-        let js = &mb.order[lb.first as usize..(lb.first + lb.count) as usize];
-        for (k, &j) in js.iter().enumerate() {
-            tb[k] = mb.triangle_at(j as usize, pb);
-            bb[k] = bx(&tb[k]);
-        }
-        for &i in &ma.order[la.first as usize..(la.first + la.count) as usize] {
-            let ta = ma.triangle_at(i as usize, pa);
-            let ba = bx(&ta);
-            for (k, &j) in js.iter().enumerate() {
-                if limit.is_some_and(|l| box_gap2(&ba, &bb[k]) > l) {
+    /// Gathers the triangle pairs of two moved leaves whose triangles' boxes are not farther
+    /// apart (squared, a lower bound) than `limit`.
+    fn push_leaves(&mut self, la: &Leaf<T>, lb: &Leaf<T>, limit: f64) {
+        for ka in 0..la.n {
+            for kb in 0..lb.n {
+                if box_gap2(&la.boxes[ka], &lb.boxes[kb]) > limit {
                     continue;
                 }
-                self.ids.push((i, j));
-                self.a.push(ta);
-                self.b.push(tb[k]);
+                self.ids.push((la.ids[ka], lb.ids[kb]));
+                self.a.push(la.tris[ka]);
+                self.b.push(lb.tris[kb]);
             }
         }
     }
@@ -384,31 +372,138 @@ impl<T: Real> Pending<T> {
     }
 }
 
-/// Node pairs in traversal order: the pairs on top of the stack are visited first.
-type Stack = Vec<(f64, u32, u32)>;
+/// A leaf's triangles moved by the query's pose ([`Mesh::triangle_at`]), with their boxes.
+struct Leaf<T> {
+    n: usize,
+    ids: [u32; LEAF],
+    tris: [Triangle<T>; LEAF],
+    boxes: [Aabb; LEAF],
+}
 
-/// Pushes the children pairs of (a, b), splitting the larger internal node, nearest last so
-/// that it is visited first.
-fn descend<T: Real>(
-    ma: &Mesh<T>,
-    mva: &Moved,
-    mb: &Mesh<T>,
-    mvb: &Moved,
-    (a, b): (u32, u32),
-    stack: &mut Stack,
-) {
-    let (na, nb) = (&ma.nodes[a as usize], &mb.nodes[b as usize]);
-    let extent = |n: &Node| (0..3).map(|k| n.hi[k] - n.lo[k]).fold(0.0, f64::max);
-    let split_a = nb.count > 0 || (na.count == 0 && extent(na) >= extent(nb));
-    let pairs = if split_a { [(na.first, b), (na.first + 1, b)] } else { [(a, nb.first), (a, nb.first + 1)] };
-    let mut gaps = pairs.map(|(x, y)| {
-        let g = box_gap2(&ma.moved_box(x as usize, mva), &mb.moved_box(y as usize, mvb));
-        (g, x, y)
-    });
-    if gaps[0].0 < gaps[1].0 {
-        gaps.swap(0, 1);
+/// The leaves of one mesh reached by a query, each moved once (a leaf meets many leaves of
+/// the other mesh).
+struct Leaves<'m, T> {
+    mesh: &'m Mesh<T>,
+    pose: &'m Pose<T>,
+    /// Per node: its index in `moved`, or `u32::MAX` before it is reached.
+    slot: Vec<u32>,
+    moved: Vec<Leaf<T>>,
+}
+
+impl<'m, T: Real> Leaves<'m, T> {
+    fn new(mesh: &'m Mesh<T>, pose: &'m Pose<T>) -> Self {
+        Leaves { mesh, pose, slot: vec![u32::MAX; mesh.nodes.len()], moved: Vec::new() }
     }
-    stack.extend(gaps);
+
+    /// Leaf node `i`, moved.
+    fn get(&mut self, i: u32) -> &Leaf<T> {
+        let k = self.slot[i as usize];
+        if k != u32::MAX {
+            return &self.moved[k as usize];
+        }
+        let node = &self.mesh.nodes[i as usize];
+        let mut l = Leaf {
+            n: node.count as usize,
+            ids: [0; LEAF],
+            tris: [[[T::ZERO; 3]; 3]; LEAF],
+            boxes: [([0.0; 3], [0.0; 3]); LEAF],
+        };
+        for (k, &t) in
+            self.mesh.order[node.first as usize..(node.first + node.count) as usize].iter().enumerate()
+        {
+            l.ids[k] = t;
+            l.tris[k] = self.mesh.triangle_at(t as usize, self.pose);
+            l.boxes[k] = tri_box(&l.tris[k]);
+        }
+        self.slot[i as usize] = self.moved.len() as u32;
+        self.moved.push(l);
+        &self.moved[self.moved.len() - 1]
+    }
+}
+
+/// A node pair waiting in the traversal: the lower bound of its squared gap, its nodes and
+/// their moved boxes.
+struct Visit {
+    gap: f64,
+    x: u32,
+    y: u32,
+    bx: Aabb,
+    by: Aabb,
+}
+
+/// What one mesh-vs-mesh query does on the one traversal they share ([`search`]).
+trait Search<T: Real> {
+    /// The squared distance beyond which the triangle pairs in the boxes `bx`, `by` are not
+    /// needed.
+    fn limit(&self, bx: &Aabb, by: &Aabb) -> f64;
+    /// Whether to run the kernels on the first pairs gathered, not waiting for [`FLUSH`] of
+    /// them (distance: their answer prunes the rest).
+    fn eager(&self) -> bool {
+        false
+    }
+    /// Runs the kernels on the gathered pairs; `true` ends the search.
+    fn flush(&mut self, e: &Engine, pend: &Pending<T>) -> Result<bool, Error>;
+}
+
+/// The traversal of two trees every mesh-vs-mesh query runs: node pairs nearest first
+/// (depth first, the nearer child pair on top), pruned by `s.limit`, leaf pairs gathered into
+/// batches for the kernels.
+fn search<T: Real, S: Search<T>>(
+    e: &Engine,
+    a: &Mesh<T>,
+    pa: &Pose<T>,
+    b: &Mesh<T>,
+    pb: &Pose<T>,
+    s: &mut S,
+) -> Result<(), Error> {
+    pa.check()?;
+    pb.check()?;
+    if a.is_empty() || b.is_empty() {
+        return Ok(());
+    }
+    let (mva, mvb) = (Moved::of(pa), Moved::of(pb));
+    let (ra, rb) = (mva.root(a)?, mvb.root(b)?);
+    let mut pend = Pending::new();
+    let (mut la, mut lb) = (Leaves::new(a, pa), Leaves::new(b, pb));
+    let mut stack = vec![Visit { gap: box_gap2(&ra, &rb), x: 0, y: 0, bx: ra, by: rb }];
+    while let Some(v) = stack.pop() {
+        let lim = s.limit(&v.bx, &v.by);
+        if v.gap > lim {
+            continue;
+        }
+        let (nx, ny) = (&a.nodes[v.x as usize], &b.nodes[v.y as usize]);
+        if nx.count > 0 && ny.count > 0 {
+            let (x, y) = (la.get(v.x), lb.get(v.y));
+            pend.push_leaves(x, y, lim);
+            if pend.ids.len() >= FLUSH || (s.eager() && !pend.ids.is_empty()) {
+                let stop = s.flush(e, &pend)?;
+                pend.clear();
+                if stop {
+                    return Ok(());
+                }
+            }
+            continue;
+        }
+        // split the larger internal node; the nearer child pair goes on top
+        let extent = |n: &Node| (0..3).map(|k| n.hi[k] - n.lo[k]).fold(0.0, f64::max);
+        let split_a = ny.count > 0 || (nx.count == 0 && extent(nx) >= extent(ny));
+        let mut kids = [0, 1].map(|c| {
+            let (x, y, bx, by) = if split_a {
+                (nx.first + c, v.y, a.moved_box((nx.first + c) as usize, &mva), v.by)
+            } else {
+                (v.x, ny.first + c, v.bx, b.moved_box((ny.first + c) as usize, &mvb))
+            };
+            Visit { gap: box_gap2(&bx, &by), x, y, bx, by }
+        });
+        if kids[0].gap < kids[1].gap {
+            kids.swap(0, 1);
+        }
+        stack.extend(kids);
+    }
+    if !pend.ids.is_empty() {
+        s.flush(e, &pend)?;
+    }
+    Ok(())
 }
 
 fn check_finite<T: Real>(d: T) -> Result<(), Error> {
@@ -416,6 +511,129 @@ fn check_finite<T: Real>(d: T) -> Result<(), Error> {
         Err(Error::NonFiniteCoordinate)
     } else {
         Ok(())
+    }
+}
+
+/// [`Engine::mesh_distance`]: the smallest answer so far prunes.
+struct Nearest<T> {
+    best: Option<MeshDistance<T>>,
+    best_d: f64,
+    out: Vec<ClosestPoints<T>>,
+}
+
+impl<T: Real> Search<T> for Nearest<T> {
+    fn limit(&self, _bx: &Aabb, _by: &Aabb) -> f64 {
+        self.best_d
+    }
+    fn eager(&self) -> bool {
+        self.best.is_none()
+    }
+    fn flush(&mut self, e: &Engine, pend: &Pending<T>) -> Result<bool, Error> {
+        self.out.clear();
+        self.out.resize(pend.ids.len(), ClosestPoints::default());
+        e.closest_points_triangle_triangle(&pend.a, &pend.b, &mut self.out)?;
+        for (cp, &(i, j)) in self.out.iter().zip(&pend.ids) {
+            check_finite(cp.sqdist)?;
+            let d = cp.sqdist.to_f64();
+            // ties among the pairs answered go to the smaller triangle numbers
+            let better = match self.best {
+                None => true,
+                Some(m) => {
+                    d < self.best_d || (d == self.best_d && (i as usize, j as usize) < (m.tri_a, m.tri_b))
+                }
+            };
+            if better {
+                self.best_d = d;
+                self.best = Some(MeshDistance {
+                    sqdist: cp.sqdist,
+                    p: cp.p,
+                    q: cp.q,
+                    tri_a: i as usize,
+                    tri_b: j as usize,
+                });
+            }
+        }
+        // nothing is nearer than touching: the search ends at the first batch that touches
+        Ok(self.best_d == 0.0)
+    }
+}
+
+/// [`Engine::mesh_contacts`]: every pair within reach of the margin, answered by
+/// [`Query::Within`] (distance and closest points in one run).
+struct Contacts<T> {
+    margin: f64,
+    tol: crate::Tolerance,
+    found: Vec<Contact<T>>,
+    d: Vec<T>,
+    p: Vec<Point<T>>,
+    q: Vec<Point<T>>,
+}
+
+impl<T: Real> Search<T> for Contacts<T> {
+    fn limit(&self, bx: &Aabb, by: &Aabb) -> f64 {
+        let r = reach::<T>(&self.tol, magnitude(bx, by), self.margin);
+        r * r
+    }
+    fn flush(&mut self, e: &Engine, pend: &Pending<T>) -> Result<bool, Error> {
+        let n = pend.ids.len();
+        self.d.clear();
+        self.d.resize(n, T::ZERO);
+        self.p.clear();
+        self.p.resize(n, [T::ZERO; 3]);
+        self.q.clear();
+        self.q.resize(n, [T::ZERO; 3]);
+        e.run(
+            Query::Within,
+            &pend.a,
+            &pend.b,
+            Outputs::new().sqdist(&mut self.d).points(&mut self.p, &mut self.q),
+        )?;
+        for k in 0..n {
+            check_finite(self.d[k])?;
+            if self.d[k].is_finite() {
+                let (i, j) = pend.ids[k];
+                self.found.push(Contact {
+                    tri_a: i as usize,
+                    tri_b: j as usize,
+                    sqdist: self.d[k],
+                    p: self.p[k],
+                    q: self.q[k],
+                });
+            }
+        }
+        Ok(false)
+    }
+}
+
+/// [`Engine::mesh_intersect`]: stops at the first batch with an intersecting pair.
+struct FirstHit {
+    tol: crate::Tolerance,
+    hit: Option<(usize, usize)>,
+    v: Vec<Intersection>,
+}
+
+impl<T: Real> Search<T> for FirstHit {
+    fn limit(&self, bx: &Aabb, by: &Aabb) -> f64 {
+        // "Intersecting" is said of pairs within the tolerance of touching: boxes that far
+        // apart are kept.
+        let r = reach::<T>(&self.tol, magnitude(bx, by), 0.0);
+        r * r
+    }
+    fn flush(&mut self, e: &Engine, pend: &Pending<T>) -> Result<bool, Error> {
+        self.v.clear();
+        self.v.resize(pend.ids.len(), Intersection::Invalid);
+        e.intersect_triangle_triangle(&pend.a, &pend.b, &mut self.v)?;
+        for (r, &(i, j)) in self.v.iter().zip(&pend.ids) {
+            match r {
+                Intersection::Invalid => return Err(Error::NonFiniteCoordinate),
+                Intersection::Intersecting => {
+                    let p = (i as usize, j as usize);
+                    self.hit = Some(self.hit.map_or(p, |h| h.min(p)));
+                }
+                Intersection::Disjoint => {}
+            }
+        }
+        Ok(self.hit.is_some())
     }
 }
 
@@ -434,67 +652,9 @@ impl Engine {
         b: &Mesh<T>,
         pose_b: &Pose<T>,
     ) -> Result<Option<MeshDistance<T>>, Error> {
-        pose_a.check()?;
-        pose_b.check()?;
-        if a.is_empty() || b.is_empty() {
-            return Ok(None);
-        }
-        let (mva, mvb) = (Moved::of(pose_a), Moved::of(pose_b));
-        let (ra, rb) = (mva.root(a)?, mvb.root(b)?);
-        let mut best: Option<MeshDistance<T>> = None;
-        let mut best_d = f64::INFINITY;
-        let mut pend = Pending::new();
-        let mut out = Vec::new();
-        let mut flush = |pend: &mut Pending<T>, best: &mut Option<MeshDistance<T>>, best_d: &mut f64| {
-            out.clear();
-            out.resize(pend.ids.len(), ClosestPoints::default());
-            self.closest_points_triangle_triangle(&pend.a, &pend.b, &mut out)?;
-            for (k, cp) in out.iter().enumerate() {
-                check_finite(cp.sqdist)?;
-                let d = cp.sqdist.to_f64();
-                // ties among the pairs answered go to the smaller triangle numbers (pairs at
-                // exactly the best distance are never pruned: box gaps are lower bounds)
-                let (i, j) = pend.ids[k];
-                let better = match best {
-                    None => true,
-                    Some(m) => d < *best_d || (d == *best_d && (i as usize, j as usize) < (m.tri_a, m.tri_b)),
-                };
-                if better {
-                    *best_d = d;
-                    *best = Some(MeshDistance {
-                        sqdist: cp.sqdist,
-                        p: cp.p,
-                        q: cp.q,
-                        tri_a: i as usize,
-                        tri_b: j as usize,
-                    });
-                }
-            }
-            pend.clear();
-            Ok::<(), Error>(())
-        };
-        let root = box_gap2(&ra, &rb);
-        let mut stack: Stack = vec![(root, 0, 0)];
-        while let Some((gap, x, y)) = stack.pop() {
-            // `<=`: pairs at the best distance are still visited, for the tie rule
-            if gap > best_d {
-                continue;
-            }
-            let (nx, ny) = (&a.nodes[x as usize], &b.nodes[y as usize]);
-            if nx.count > 0 && ny.count > 0 {
-                pend.push_leaves(a, pose_a, nx, b, pose_b, ny, Some(best_d));
-                // the first pairs (nearest first) run at once: their answer prunes the rest
-                if pend.ids.len() >= FLUSH || (best.is_none() && !pend.ids.is_empty()) {
-                    flush(&mut pend, &mut best, &mut best_d)?;
-                }
-            } else {
-                descend(a, &mva, b, &mvb, (x, y), &mut stack);
-            }
-        }
-        if !pend.ids.is_empty() {
-            flush(&mut pend, &mut best, &mut best_d)?;
-        }
-        Ok(best)
+        let mut s = Nearest { best: None, best_d: f64::INFINITY, out: Vec::new() };
+        search(self, a, pose_a, b, pose_b, &mut s)?;
+        Ok(s.best)
     }
 
     /// Every triangle pair of two meshes in their poses whose distance is at most `margin`
@@ -515,69 +675,17 @@ impl Engine {
         margin: T,
         cap: Option<usize>,
     ) -> Result<Vec<Contact<T>>, Error> {
-        pose_a.check()?;
-        pose_b.check()?;
         let e = self.margin(margin.to_f64())?;
-        let mut found = Vec::new();
-        if a.is_empty() || b.is_empty() {
-            return Ok(found);
-        }
-        let (mva, mvb) = (Moved::of(pose_a), Moved::of(pose_b));
-        mva.root(a)?;
-        mvb.root(b)?;
-        let (m, tol) = (margin.to_f64(), e.current_tolerance());
-        let mut pend = Pending::new();
-        let mut d = Vec::new();
-        let mut cp = Vec::new();
-        let mut flush = |pend: &mut Pending<T>, found: &mut Vec<Contact<T>>| {
-            d.clear();
-            d.resize(pend.ids.len(), T::ZERO);
-            e.run(Query::Within, &pend.a, &pend.b, Outputs::new().sqdist(&mut d))?;
-            // closest points for the pairs within the margin
-            let (mut wa, mut wb, mut wid) = (Vec::new(), Vec::new(), Vec::new());
-            for (k, &dk) in d.iter().enumerate() {
-                check_finite(dk)?;
-                if dk.is_finite() {
-                    wa.push(pend.a[k]);
-                    wb.push(pend.b[k]);
-                    wid.push(pend.ids[k]);
-                }
-            }
-            cp.clear();
-            cp.resize(wa.len(), ClosestPoints::default());
-            self.closest_points_triangle_triangle(&wa, &wb, &mut cp)?;
-            for (c, &(i, j)) in cp.iter().zip(&wid) {
-                found.push(Contact {
-                    tri_a: i as usize,
-                    tri_b: j as usize,
-                    sqdist: c.sqdist,
-                    p: c.p,
-                    q: c.q,
-                });
-            }
-            pend.clear();
-            Ok::<(), Error>(())
+        let mut s = Contacts {
+            margin: margin.to_f64(),
+            tol: e.current_tolerance(),
+            found: Vec::new(),
+            d: Vec::new(),
+            p: Vec::new(),
+            q: Vec::new(),
         };
-        let mut stack: Stack = vec![(0.0, 0, 0)];
-        while let Some((_, x, y)) = stack.pop() {
-            let (bx, by) = (a.moved_box(x as usize, &mva), b.moved_box(y as usize, &mvb));
-            let lim = reach::<T>(&tol, magnitude(&bx, &by), m);
-            if box_gap2(&bx, &by) > lim * lim {
-                continue;
-            }
-            let (nx, ny) = (&a.nodes[x as usize], &b.nodes[y as usize]);
-            if nx.count > 0 && ny.count > 0 {
-                pend.push_leaves(a, pose_a, nx, b, pose_b, ny, Some(lim * lim));
-                if pend.ids.len() >= FLUSH {
-                    flush(&mut pend, &mut found)?;
-                }
-            } else {
-                descend(a, &mva, b, &mvb, (x, y), &mut stack);
-            }
-        }
-        if !pend.ids.is_empty() {
-            flush(&mut pend, &mut found)?;
-        }
+        search(&e, a, pose_a, b, pose_b, &mut s)?;
+        let mut found = s.found;
         found.sort_by(|p, q| {
             p.sqdist.to_f64().total_cmp(&q.sqdist.to_f64()).then((p.tri_a, p.tri_b).cmp(&(q.tri_a, q.tri_b)))
         });
@@ -601,61 +709,9 @@ impl Engine {
         b: &Mesh<T>,
         pose_b: &Pose<T>,
     ) -> Result<Option<(usize, usize)>, Error> {
-        pose_a.check()?;
-        pose_b.check()?;
-        if a.is_empty() || b.is_empty() {
-            return Ok(None);
-        }
-        let (mva, mvb) = (Moved::of(pose_a), Moved::of(pose_b));
-        mva.root(a)?;
-        mvb.root(b)?;
-        let mut pend = Pending::new();
-        let mut v = Vec::new();
-        let mut flush = |pend: &mut Pending<T>| {
-            v.clear();
-            v.resize(pend.ids.len(), Intersection::Invalid);
-            self.intersect_triangle_triangle(&pend.a, &pend.b, &mut v)?;
-            let mut hit: Option<(usize, usize)> = None;
-            for (k, r) in v.iter().enumerate() {
-                match r {
-                    Intersection::Invalid => return Err(Error::NonFiniteCoordinate),
-                    Intersection::Intersecting => {
-                        let (i, j) = pend.ids[k];
-                        let p = (i as usize, j as usize);
-                        hit = Some(hit.map_or(p, |h| h.min(p)));
-                    }
-                    Intersection::Disjoint => {}
-                }
-            }
-            pend.clear();
-            Ok::<_, Error>(hit)
-        };
-        // "Intersecting" is said of pairs within the tolerance of touching: boxes that far
-        // apart are kept.
-        let tol = self.current_tolerance();
-        let mut stack: Stack = vec![(0.0, 0, 0)];
-        while let Some((_, x, y)) = stack.pop() {
-            let (bx, by) = (a.moved_box(x as usize, &mva), b.moved_box(y as usize, &mvb));
-            let lim = reach::<T>(&tol, magnitude(&bx, &by), 0.0);
-            if box_gap2(&bx, &by) > lim * lim {
-                continue;
-            }
-            let (nx, ny) = (&a.nodes[x as usize], &b.nodes[y as usize]);
-            if nx.count > 0 && ny.count > 0 {
-                pend.push_leaves(a, pose_a, nx, b, pose_b, ny, Some(lim * lim));
-                if pend.ids.len() >= FLUSH {
-                    if let Some(h) = flush(&mut pend)? {
-                        return Ok(Some(h));
-                    }
-                }
-            } else {
-                descend(a, &mva, b, &mvb, (x, y), &mut stack);
-            }
-        }
-        if !pend.ids.is_empty() {
-            return flush(&mut pend);
-        }
-        Ok(None)
+        let mut s = FirstHit { tol: self.current_tolerance(), hit: None, v: Vec::new() };
+        search::<T, _>(self, a, pose_a, b, pose_b, &mut s)?;
+        Ok(s.hit)
     }
 
     /// The closest point of a mesh in its pose to `x`: squared distance, the point and its

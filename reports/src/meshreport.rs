@@ -7,29 +7,11 @@ use std::time::{Duration, Instant};
 
 use tridist::{Engine, Mesh, Pose, Real};
 use tridist_scenes::peer::{Peer, PeerPose};
+use tridist_scenes::protocol::{carried_normalised as normalised, trajectory_pose as pose_k};
 use tridist_scenes::workload::median_time;
 
 use crate::common::header;
 use crate::report::Settings;
-
-/// A carried mesh, centred and scaled to [-1, 1]^3 (largest side).
-fn normalised(name: &str) -> Result<tridist_scenes::mesh::Mesh, String> {
-    let mut m = tridist_scenes::mesh::carried(name).map_err(|e| format!("{name}: {e}"))?;
-    tridist_scenes::protocol::normalise(&mut m);
-    Ok(m)
-}
-
-/// Pose `k` of the trajectory: the second mesh from 3 units to the +x side, through the first,
-/// to 3 units to the -x side, rotating once about the axis (1, 2, 3) on the way. As
-/// translation and scaled axis (parry's form) and as tridist's matrix.
-fn pose_k(k: usize, poses: usize) -> (PeerPose, Pose<f64>) {
-    let t = (k as f64) / (poses.max(2) - 1) as f64;
-    let x = 3.0 - 6.0 * t;
-    let angle = std::f64::consts::TAU * t;
-    let n = 14f64.sqrt();
-    let axis = [1.0 / n, 2.0 / n, 3.0 / n];
-    (([x, 0.0, 0.0], axis.map(|a| a * angle)), Pose::from_axis_angle(axis, angle, [x, 0.0, 0.0]))
-}
 
 struct Row {
     x: f64,

@@ -5,7 +5,7 @@
 //! triangles ("random") against one static triangle. Segment-segment and point-triangle use all
 //! edge and vertex combinations of those triangle pairs, as the paper did.
 
-use tridist::Triangle;
+use tridist::{Pose, Triangle};
 
 use crate::mesh::Mesh;
 use crate::rng::Rng;
@@ -230,4 +230,24 @@ pub fn standard(n: usize, seed: u64) -> Result<Vec<Named>, String> {
             pairs: pairs(&fan, &arm, Grouping::Random, n, seed),
         },
     ])
+}
+
+/// A carried mesh (`data/meshes/`), centred and scaled to [-1, 1]^3 (largest side).
+pub fn carried_normalised(name: &str) -> Result<Mesh, String> {
+    let mut m = crate::mesh::carried(name).map_err(|e| format!("{name}: {e}"))?;
+    normalise(&mut m);
+    Ok(m)
+}
+
+/// Pose `k` of `poses` along the seed's mesh trajectory (the mesh report and the mesh
+/// benches): the moving mesh from 3 units to the +x side, through the fixed one, to 3 units to
+/// the -x side, rotating once about the axis (1, 2, 3) on the way. As translation and scaled
+/// axis (parry's form) and as tridist's matrix.
+pub fn trajectory_pose(k: usize, poses: usize) -> (([f64; 3], [f64; 3]), Pose<f64>) {
+    let t = (k as f64) / (poses.max(2) - 1) as f64;
+    let x = 3.0 - 6.0 * t;
+    let angle = std::f64::consts::TAU * t;
+    let n = 14f64.sqrt();
+    let axis = [1.0 / n, 2.0 / n, 3.0 / n];
+    (([x, 0.0, 0.0], axis.map(|a| a * angle)), Pose::from_axis_angle(axis, angle, [x, 0.0, 0.0]))
 }
