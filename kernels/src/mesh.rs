@@ -56,6 +56,8 @@ pub struct Mesh<T> {
     vertices: Vec<Point<T>>,
     triangles: Vec<[u32; 3]>,
     nodes: Vec<Node>,
+    /// Per node, an oriented box of its triangles (same index as `nodes`).
+    obbs: Vec<Obb>,
     /// Triangle numbers in leaf order.
     order: Vec<u32>,
 }
@@ -133,7 +135,7 @@ impl<T: Real> Mesh<T> {
                 }
             }
         }
-        let mut m = Mesh { vertices, triangles, nodes: Vec::new(), order: Vec::new() };
+        let mut m = Mesh { vertices, triangles, nodes: Vec::new(), obbs: Vec::new(), order: Vec::new() };
         m.build();
         Ok(m)
     }
@@ -178,21 +180,9 @@ impl<T: Real> Mesh<T> {
         if n == 0 {
             return;
         }
-        let tri_f64 = |i: usize| self.triangle(i).map(|v| v.map(Real::to_f64));
-        let boxes: Vec<([f64; 3], [f64; 3])> = (0..n)
-            .map(|i| {
-                let t = tri_f64(i);
-                let mut lo = t[0];
-                let mut hi = t[0];
-                for v in &t[1..] {
-                    for k in 0..3 {
-                        lo[k] = lo[k].min(v[k]);
-                        hi[k] = hi[k].max(v[k]);
-                    }
-                }
-                (lo, hi)
-            })
-            .collect();
+        let tris: Vec<[[f64; 3]; 3]> =
+            (0..n).map(|i| self.triangle(i).map(|v| v.map(Real::to_f64))).collect();
+        let boxes: Vec<Aabb> = tris.iter().map(|t| tri_box(t)).collect();
         let centroid = |i: u32| {
             let (lo, hi) = boxes[i as usize];
             [0, 1, 2].map(|k| 0.5 * lo[k] + 0.5 * hi[k])
@@ -215,6 +205,9 @@ impl<T: Real> Mesh<T> {
                     chi[k] = chi[k].max(c[k]);
                 }
             }
+            let obb = Obb::fit(self.order[s..e].iter().flat_map(|&t| tris[t as usize]));
+            self.obbs.resize(self.obbs.len().max(id + 1), obb);
+            self.obbs[id] = obb;
             if e - s <= LEAF {
                 self.nodes[id] = Node { lo, hi, first: s as u32, count: (e - s) as u32 };
                 continue;
@@ -256,6 +249,157 @@ impl<T: Real> Mesh<T> {
     }
 }
 
+/// An oriented box in the mesh frame, as a container that f64 rounding cannot break: the
+/// points `c + sum_i s_i e_i` with `|s_i| <= h_i`, enlarged by the ball of radius `rho`. Every
+/// vertex `v` of the node is in it *exactly*: with `s_i = e_i . (v - c)` and the residual
+/// `r = v - c - sum_i s_i e_i` (an identity for any `e_i`), `h_i` and `rho` bound `|s_i|` and
+/// `|r|` with a margin for the rounding of their computation. The axes come from the
+/// principal axes of the node's vertices, so a flat patch gets a thin box in any pose (the
+/// axis-aligned boxes only in the mesh frame).
+#[derive(Clone, Copy, Debug)]
+struct Obb {
+    c: [f64; 3],
+    e: [[f64; 3]; 3],
+    h: [f64; 3],
+    rho: f64,
+}
+
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn norm1(a: &[f64; 3]) -> f64 {
+    a[0].abs() + a[1].abs() + a[2].abs()
+}
+
+/// Orthonormal eigenvectors (rows) of a symmetric 3x3 matrix, by cyclic Jacobi rotations:
+/// only their being a well-conditioned basis matters here (the box is certified afterwards).
+fn principal_axes(mut a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _ in 0..12 {
+        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
+        let diag = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
+        if !(off > 1e-15 * diag) {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q] == 0.0 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let (c, s) = (1.0 / (t * t + 1.0).sqrt(), t / (t * t + 1.0).sqrt());
+            // a <- J^T a J, v <- v J (columns p, q rotated)
+            for k in 0..3 {
+                let (akp, akq) = (a[k][p], a[k][q]);
+                a[k][p] = c * akp - s * akq;
+                a[k][q] = s * akp + c * akq;
+            }
+            for k in 0..3 {
+                let (apk, aqk) = (a[p][k], a[q][k]);
+                a[p][k] = c * apk - s * aqk;
+                a[q][k] = s * apk + c * aqk;
+            }
+            for row in v.iter_mut() {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    // columns of v are the eigenvectors
+    let axes = [0, 1, 2].map(|i| [v[0][i], v[1][i], v[2][i]]);
+    if axes.iter().flatten().all(|x| x.is_finite()) {
+        axes
+    } else {
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    }
+}
+
+impl Obb {
+    /// The box of `points` (at least one), certified as the type says.
+    fn fit(points: impl Iterator<Item = [f64; 3]> + Clone) -> Obb {
+        let (mut n, mut mean) = (0.0, [0.0; 3]);
+        for p in points.clone() {
+            n += 1.0;
+            for k in 0..3 {
+                mean[k] += p[k];
+            }
+        }
+        let mean = mean.map(|m| m / n);
+        let mut cov = [[0.0; 3]; 3];
+        for p in points.clone() {
+            let d = [0, 1, 2].map(|k| p[k] - mean[k]);
+            for i in 0..3 {
+                for j in 0..3 {
+                    cov[i][j] += d[i] * d[j];
+                }
+            }
+        }
+        let e = principal_axes(cov);
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for p in points.clone() {
+            for i in 0..3 {
+                let s = dot(&e[i], &p);
+                lo[i] = lo[i].min(s);
+                hi[i] = hi[i].max(s);
+            }
+        }
+        let mid = [0, 1, 2].map(|i| 0.5 * lo[i] + 0.5 * hi[i]);
+        let c = [0, 1, 2].map(|k| (0..3).map(|i| mid[i] * e[i][k]).sum::<f64>());
+        // the certificate: |s_i| and |r| as computed, plus their computation's rounding (a
+        // few operations on numbers of magnitude at most `m`: 64 eps m is far above it)
+        let (mut h, mut rho, mut m) = ([0.0f64; 3], 0.0f64, 0.0f64);
+        for p in points {
+            let d = [0, 1, 2].map(|k| p[k] - c[k]);
+            let sv = [0, 1, 2].map(|i| dot(&e[i], &d));
+            let r = [0, 1, 2].map(|k| d[k] - sv[0] * e[0][k] - sv[1] * e[1][k] - sv[2] * e[2][k]);
+            for i in 0..3 {
+                h[i] = h[i].max(sv[i].abs());
+            }
+            rho = rho.max(norm1(&r));
+            m = m.max(norm1(&p) + norm1(&c) + norm1(&sv));
+        }
+        let slack = 64.0 * f64::EPSILON * m;
+        Obb { c, e, h: h.map(|x| x + slack), rho: rho + slack }
+    }
+}
+
+/// An oriented box moved by a pose (exactly: the linear map takes the box to the
+/// parallelepiped `c' + sum s_i e_i'`, `|s_i| <= h_i`, and the ball into a ball `|R|_F` times
+/// larger), with `err`, a bound of the rounding of the computed `c'`, `e_i'` (1-norms, the
+/// `e_i'` weighted by `h_i`), and `rho` grown by the ball's growth and the rounding of the
+/// vertices' motion in the working precision.
+#[derive(Clone, Copy, Debug)]
+struct MovedObb {
+    c: [f64; 3],
+    e: [[f64; 3]; 3],
+    h: [f64; 3],
+    rho: f64,
+    err: f64,
+}
+
+/// A lower bound of the distance between two moved oriented boxes: the largest gap of their
+/// projections on the six box axes, less the balls and every rounding.
+fn obb_gap(a: &MovedObb, b: &MovedObb) -> f64 {
+    let dc = [0, 1, 2].map(|k| b.c[k] - a.c[k]);
+    let mut best = 0.0f64;
+    for n in a.e.iter().chain(&b.e) {
+        let ra: f64 = (0..3).map(|i| a.h[i] * dot(&a.e[i], n).abs()).sum();
+        let rb: f64 = (0..3).map(|i| b.h[i] * dot(&b.e[i], n).abs()).sum();
+        let g = dot(&dc, n).abs() - ra - rb;
+        if g > 0.0 {
+            // the computed projections are within (err_a + err_b) |n|_1 of the exact ones,
+            // and this arithmetic within far less than its 1e-12 relative margin
+            let len = dot(n, n).sqrt() * (1.0 + 1e-12);
+            let g = (g - (a.err + b.err) * norm1(n)) * (1.0 - 1e-12) / len;
+            best = best.max(g);
+        }
+    }
+    (best - a.rho - b.rho).max(0.0)
+}
+
 /// A pose in f64 with the relative slack that makes moved boxes contain the moved vertices.
 struct Moved {
     r: [[f64; 3]; 3],
@@ -270,6 +414,29 @@ impl Moved {
             t: p.translation.map(Real::to_f64),
             rel: 4.0 * T::UNIT_ROUNDOFF.to_f64() + 16.0 * f64::EPSILON,
         }
+    }
+
+    /// Node `i`'s oriented box moved (see [`MovedObb`]).
+    fn obb<T: Real>(&self, mesh: &Mesh<T>, i: usize) -> MovedObb {
+        let (o, n) = (&mesh.obbs[i], &mesh.nodes[i]);
+        let r = &self.r;
+        let mv = |x: &[f64; 3]| [0, 1, 2].map(|k| dot(&r[k], x));
+        let c = [0, 1, 2].map(|k| dot(&r[k], &o.c) + self.t[k]);
+        let e = o.e.map(|x| mv(&x));
+        let (mut big, mut slack) = (0.0, 0.0);
+        for k in 0..3 {
+            let (mut b, mut v) = (self.t[k].abs(), self.t[k].abs());
+            for j in 0..3 {
+                let w = (0..3).map(|i| o.h[i] * o.e[i][j].abs()).sum::<f64>();
+                b += r[k][j].abs() * (o.c[j].abs() + w);
+                v += r[k][j].abs() * n.lo[j].abs().max(n.hi[j].abs());
+            }
+            big += b;
+            // the vertices' motion in the working precision (as in `moved_box`)
+            slack += v * self.rel;
+        }
+        let frob = r.iter().flatten().map(|x| x * x).sum::<f64>().sqrt() * (1.0 + 1e-12);
+        MovedObb { c, e, h: o.h, rho: o.rho * frob + slack, err: 32.0 * f64::EPSILON * big }
     }
 
     /// `mesh`'s moved root box, or [`Error::NonFiniteCoordinate`] when it leaves the range of
@@ -380,26 +547,54 @@ struct Leaf<T> {
     boxes: [Aabb; LEAF],
 }
 
-/// The leaves of one mesh reached by a query, each moved once (a leaf meets many leaves of
-/// the other mesh).
-struct Leaves<'m, T> {
+/// One mesh of a query in its pose, with what the traversal has moved so far: each node's
+/// bounds and each leaf's triangles are moved once per query (a node meets many nodes of the
+/// other mesh).
+struct Side<'m, T> {
     mesh: &'m Mesh<T>,
     pose: &'m Pose<T>,
-    /// Per node: its index in `moved`, or `u32::MAX` before it is reached.
+    mv: Moved,
+    /// Per node: its index in `bounds`, or `u32::MAX` before it is reached.
     slot: Vec<u32>,
-    moved: Vec<Leaf<T>>,
+    bounds: Vec<(Aabb, MovedObb)>,
+    /// Per node: its index in `leaves`, or `u32::MAX`.
+    leaf_slot: Vec<u32>,
+    leaves: Vec<Leaf<T>>,
 }
 
-impl<'m, T: Real> Leaves<'m, T> {
-    fn new(mesh: &'m Mesh<T>, pose: &'m Pose<T>) -> Self {
-        Leaves { mesh, pose, slot: vec![u32::MAX; mesh.nodes.len()], moved: Vec::new() }
+impl<'m, T: Real> Side<'m, T> {
+    /// The side, or [`Error::NonFiniteCoordinate`] when the moved mesh leaves the range of `T`.
+    fn new(mesh: &'m Mesh<T>, pose: &'m Pose<T>) -> Result<Self, Error> {
+        let mv = Moved::of(pose);
+        mv.root(mesh)?;
+        let n = mesh.nodes.len();
+        Ok(Side {
+            mesh,
+            pose,
+            mv,
+            slot: vec![u32::MAX; n],
+            bounds: Vec::new(),
+            leaf_slot: vec![u32::MAX; n],
+            leaves: Vec::new(),
+        })
+    }
+
+    /// Node `i`'s moved box and oriented box.
+    fn bounds(&mut self, i: u32) -> &(Aabb, MovedObb) {
+        let k = self.slot[i as usize];
+        if k != u32::MAX {
+            return &self.bounds[k as usize];
+        }
+        self.slot[i as usize] = self.bounds.len() as u32;
+        self.bounds.push((self.mesh.moved_box(i as usize, &self.mv), self.mv.obb(self.mesh, i as usize)));
+        &self.bounds[self.bounds.len() - 1]
     }
 
     /// Leaf node `i`, moved.
-    fn get(&mut self, i: u32) -> &Leaf<T> {
-        let k = self.slot[i as usize];
+    fn leaf(&mut self, i: u32) -> &Leaf<T> {
+        let k = self.leaf_slot[i as usize];
         if k != u32::MAX {
-            return &self.moved[k as usize];
+            return &self.leaves[k as usize];
         }
         let node = &self.mesh.nodes[i as usize];
         let mut l = Leaf {
@@ -415,20 +610,17 @@ impl<'m, T: Real> Leaves<'m, T> {
             l.tris[k] = self.mesh.triangle_at(t as usize, self.pose);
             l.boxes[k] = tri_box(&l.tris[k]);
         }
-        self.slot[i as usize] = self.moved.len() as u32;
-        self.moved.push(l);
-        &self.moved[self.moved.len() - 1]
+        self.leaf_slot[i as usize] = self.leaves.len() as u32;
+        self.leaves.push(l);
+        &self.leaves[self.leaves.len() - 1]
     }
 }
 
-/// A node pair waiting in the traversal: the lower bound of its squared gap, its nodes and
-/// their moved boxes.
-struct Visit {
-    gap: f64,
-    x: u32,
-    y: u32,
-    bx: Aabb,
-    by: Aabb,
+/// The lower bound of the squared distance between two nodes (moved bounds): the larger of
+/// their boxes' and their oriented boxes' gaps.
+fn node_gap2(x: &(Aabb, MovedObb), y: &(Aabb, MovedObb)) -> f64 {
+    let g = obb_gap(&x.1, &y.1);
+    box_gap2(&x.0, &y.0).max(g * g * (1.0 - 8.0 * f64::EPSILON))
 }
 
 /// What one mesh-vs-mesh query does on the one traversal they share ([`search`]).
@@ -461,20 +653,18 @@ fn search<T: Real, S: Search<T>>(
     if a.is_empty() || b.is_empty() {
         return Ok(());
     }
-    let (mva, mvb) = (Moved::of(pa), Moved::of(pb));
-    let (ra, rb) = (mva.root(a)?, mvb.root(b)?);
+    let (mut sa, mut sb) = (Side::new(a, pa)?, Side::new(b, pb)?);
     let mut pend = Pending::new();
-    let (mut la, mut lb) = (Leaves::new(a, pa), Leaves::new(b, pb));
-    let mut stack = vec![Visit { gap: box_gap2(&ra, &rb), x: 0, y: 0, bx: ra, by: rb }];
-    while let Some(v) = stack.pop() {
-        let lim = s.limit(&v.bx, &v.by);
-        if v.gap > lim {
+    // node pairs to visit: (lower bound of the squared gap, node of a, node of b)
+    let mut stack = vec![(node_gap2(sa.bounds(0), sb.bounds(0)), 0u32, 0u32)];
+    while let Some((gap, x, y)) = stack.pop() {
+        let lim = s.limit(&sa.bounds(x).0, &sb.bounds(y).0);
+        if gap > lim {
             continue;
         }
-        let (nx, ny) = (&a.nodes[v.x as usize], &b.nodes[v.y as usize]);
+        let (nx, ny) = (&a.nodes[x as usize], &b.nodes[y as usize]);
         if nx.count > 0 && ny.count > 0 {
-            let (x, y) = (la.get(v.x), lb.get(v.y));
-            pend.push_leaves(x, y, lim);
+            pend.push_leaves(sa.leaf(x), sb.leaf(y), lim);
             if pend.ids.len() >= FLUSH || (s.eager() && !pend.ids.is_empty()) {
                 let stop = s.flush(e, &pend)?;
                 pend.clear();
@@ -487,15 +677,14 @@ fn search<T: Real, S: Search<T>>(
         // split the larger internal node; the nearer child pair goes on top
         let extent = |n: &Node| (0..3).map(|k| n.hi[k] - n.lo[k]).fold(0.0, f64::max);
         let split_a = ny.count > 0 || (nx.count == 0 && extent(nx) >= extent(ny));
-        let mut kids = [0, 1].map(|c| {
-            let (x, y, bx, by) = if split_a {
-                (nx.first + c, v.y, a.moved_box((nx.first + c) as usize, &mva), v.by)
-            } else {
-                (v.x, ny.first + c, v.bx, b.moved_box((ny.first + c) as usize, &mvb))
-            };
-            Visit { gap: box_gap2(&bx, &by), x, y, bx, by }
-        });
-        if kids[0].gap < kids[1].gap {
+        let mut kids = if split_a {
+            let by = *sb.bounds(y);
+            [nx.first, nx.first + 1].map(|c| (node_gap2(sa.bounds(c), &by), c, y))
+        } else {
+            let bx = *sa.bounds(x);
+            [ny.first, ny.first + 1].map(|c| (node_gap2(&bx, sb.bounds(c)), x, c))
+        };
+        if kids[0].0 < kids[1].0 {
             kids.swap(0, 1);
         }
         stack.extend(kids);
