@@ -1,5 +1,7 @@
 //! Builds the FCL peer shim (peer/fcl_shim.cpp) when the `peers` feature is on and FCL's and
-//! Eigen's headers are installed; sets `cfg(tridist_fcl)` then. Without them the project builds
+//! Eigen's headers are installed; sets `cfg(tridist_fcl)` then. With FCL's shared library as
+//! well (`FCL_LIB` or the usual library directories), also the mesh peer (peer/fcl_mesh.cpp,
+//! linked to libfcl; `cfg(tridist_fcl_mesh)`). Without them the project builds
 //! and tests as before and the reports say FCL was not measured (how to get it: Debian/Ubuntu
 //! `apt-get install libfcl-dev libeigen3-dev`; elsewhere set `FCL_INCLUDE` and `EIGEN_INCLUDE`).
 
@@ -13,7 +15,9 @@ fn find(env: &str, candidates: &[&str], probe: &str) -> Option<PathBuf> {
 
 fn main() {
     println!("cargo:rustc-check-cfg=cfg(tridist_fcl)");
+    println!("cargo:rustc-check-cfg=cfg(tridist_fcl_mesh)");
     println!("cargo:rerun-if-changed=peer/fcl_shim.cpp");
+    println!("cargo:rerun-if-changed=peer/fcl_mesh.cpp");
     println!("cargo:rerun-if-changed=build.rs");
     if std::env::var_os("CARGO_FEATURE_PEERS").is_none() {
         return;
@@ -47,10 +51,51 @@ fn main() {
         // FCL as its users build it for speed: optimised for this machine.
         .flag_if_supported("-O3")
         .flag_if_supported("-march=native")
+        // The shim's instantiations stay inside the shim: libfcl (the mesh peer) must not bind
+        // to these -march=native copies of its own templates (it crashed when it did), so no
+        // FCL_EXPORT (default visibility) on them, and hidden visibility.
+        .define("FCL_STATIC_DEFINE", None)
+        .flag_if_supported("-fvisibility=hidden")
         .flag_if_supported("-w");
     if b.try_compile("tridist_fcl_shim").is_ok() {
         println!("cargo:rustc-cfg=tridist_fcl");
     } else {
         println!("cargo:warning=FCL peer not built: the shim did not compile");
+        return;
+    }
+    // The mesh peer needs FCL's shared library too (its double instantiations, and libccd).
+    let lib = find(
+        "FCL_LIB",
+        &[
+            "/usr/lib/x86_64-linux-gnu",
+            "/usr/lib/aarch64-linux-gnu",
+            "/usr/lib",
+            "/usr/local/lib",
+            "/opt/homebrew/lib",
+        ],
+        "libfcl.so",
+    )
+    .or_else(|| find("FCL_LIB", &["/opt/homebrew/lib", "/usr/local/lib"], "libfcl.dylib"));
+    let Some(lib) = lib else {
+        println!("cargo:warning=FCL mesh peer not built: libfcl not found (apt-get install libfcl-dev)");
+        return;
+    };
+    let mut m = cc::Build::new();
+    // Glue only (the measured work runs in libfcl as the distribution built it): no
+    // -march=native, so that Eigen's object layout matches the library's.
+    m.cpp(true)
+        .file(Path::new("peer/fcl_mesh.cpp"))
+        .include(&fcl)
+        .include(&eigen)
+        .flag_if_supported("-std=c++14")
+        .flag_if_supported("-O2")
+        .flag_if_supported("-fvisibility=hidden")
+        .flag_if_supported("-w");
+    if m.try_compile("tridist_fcl_mesh").is_ok() {
+        println!("cargo:rustc-link-search=native={}", lib.display());
+        println!("cargo:rustc-link-lib=dylib=fcl");
+        println!("cargo:rustc-cfg=tridist_fcl_mesh");
+    } else {
+        println!("cargo:warning=FCL mesh peer not built: the shim did not compile");
     }
 }

@@ -182,7 +182,7 @@ impl<T: Real> Mesh<T> {
         }
         let tris: Vec<[[f64; 3]; 3]> =
             (0..n).map(|i| self.triangle(i).map(|v| v.map(Real::to_f64))).collect();
-        let boxes: Vec<Aabb> = tris.iter().map(|t| tri_box(t)).collect();
+        let boxes: Vec<Aabb> = tris.iter().map(tri_box).collect();
         let centroid = |i: u32| {
             let (lo, hi) = boxes[i as usize];
             [0, 1, 2].map(|k| 0.5 * lo[k] + 0.5 * hi[k])
@@ -279,7 +279,8 @@ fn principal_axes(mut a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
     for _ in 0..12 {
         let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
         let diag = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
-        if !(off > 1e-15 * diag) {
+        // converged (or NaN: the caller falls back to the identity)
+        if off <= 1e-15 * diag || off.is_nan() {
             break;
         }
         for (p, q) in [(0, 1), (0, 2), (1, 2)] {

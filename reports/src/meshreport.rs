@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
 use tridist::{Engine, Mesh, Pose, Real};
-use tridist_scenes::peer::{Peer, PeerPose};
+use tridist_scenes::peer::{FclMesh, Peer, PeerPose};
 use tridist_scenes::protocol::{carried_normalised as normalised, trajectory_pose as pose_k};
 use tridist_scenes::workload::median_time;
 
@@ -25,6 +25,11 @@ struct Row {
     parry_t_d: f64,
     parry_hit: Option<bool>,
     parry_t_i: f64,
+    /// FCL (double; NaN when not built): distance, its time, verdict, its time.
+    fcl_d: f64,
+    fcl_t_d: f64,
+    fcl_hit: Option<bool>,
+    fcl_t_i: f64,
 }
 
 fn rows<T: Peer + Real>(
@@ -32,7 +37,7 @@ fn rows<T: Peer + Real>(
     b: &tridist_scenes::mesh::Mesh,
     budget: Duration,
     poses: usize,
-) -> Result<(f64, f64, Vec<Row>), String> {
+) -> Result<Built, String> {
     let mesh = |m: &tridist_scenes::mesh::Mesh| {
         Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone())
             .map_err(|e| e.to_string())
@@ -44,16 +49,19 @@ fn rows<T: Peer + Real>(
     let pa = T::trimesh(&a.vertices, &a.triangles).ok_or("parry refused the first mesh")?;
     let pb = T::trimesh(&b.vertices, &b.triangles).ok_or("parry refused the second mesh")?;
     let parry_build = t0.elapsed().as_secs_f64();
+    let t0 = Instant::now();
+    let fcl = FclMesh::new(&a.vertices, &a.triangles).zip(FclMesh::new(&b.vertices, &b.triangles));
+    let fcl_build = t0.elapsed().as_secs_f64();
     let e = Engine::auto();
     let margin = T::from_f64(0.02);
     let id = Pose::<T>::identity();
     let peer_id: PeerPose = ([0.0; 3], [0.0; 3]);
     let mut out = Vec::new();
     for k in 0..poses {
-        let (pp, pose) = pose_k(k, poses);
+        let (pp, pose64) = pose_k(k, poses);
         let pose = Pose {
-            rotation: pose.rotation.map(|r| r.map(T::from_f64)),
-            translation: pose.translation.map(T::from_f64),
+            rotation: pose64.rotation.map(|r| r.map(T::from_f64)),
+            translation: pose64.translation.map(T::from_f64),
         };
         let mut d = f64::NAN;
         let t_d = median_time(
@@ -77,6 +85,12 @@ fn rows<T: Peer + Real>(
         let parry_t_d = median_time(|| parry_d = T::mesh_distance(&pa, &peer_id, &pb, &pp), budget);
         let mut parry_hit = None;
         let parry_t_i = median_time(|| parry_hit = T::mesh_intersects(&pa, &peer_id, &pb, &pp), budget);
+        let (mut fcl_d, mut fcl_t_d, mut fcl_hit, mut fcl_t_i) = (f64::NAN, f64::NAN, None, f64::NAN);
+        if let Some((fa, fb)) = &fcl {
+            let id64 = Pose::<f64>::identity();
+            fcl_t_d = median_time(|| fcl_d = fa.distance(&id64, fb, &pose64), budget);
+            fcl_t_i = median_time(|| fcl_hit = Some(fa.collide(&id64, fb, &pose64)), budget);
+        }
         out.push(Row {
             x: pp.0[0],
             d,
@@ -89,71 +103,127 @@ fn rows<T: Peer + Real>(
             parry_t_d,
             parry_hit,
             parry_t_i,
+            fcl_d,
+            fcl_t_d,
+            fcl_hit,
+            fcl_t_i,
         });
     }
-    Ok((build, parry_build, out))
+    Ok(Built { build, parry_build, fcl_build: fcl.is_some().then_some(fcl_build), rows: out })
 }
 
+/// One precision's measurements.
+struct Built {
+    build: f64,
+    parry_build: f64,
+    fcl_build: Option<f64>,
+    rows: Vec<Row>,
+}
+
+/// Milliseconds, or "-" for a peer not measured (NaN).
 fn ms(s: f64) -> String {
-    format!("{:.3}", s * 1e3)
+    if s.is_nan() {
+        "-".into()
+    } else {
+        format!("{:.3}", s * 1e3)
+    }
+}
+
+/// A ratio, or "-" for a peer not measured.
+fn ratio(x: f64, digits: usize) -> String {
+    if x.is_nan() {
+        "-".into()
+    } else {
+        format!("{x:.digits$}x")
+    }
+}
+
+fn verdict(h: Option<bool>) -> &'static str {
+    match h {
+        Some(true) => "yes",
+        Some(false) => "no",
+        None => "-",
+    }
 }
 
 /// MESH.md.
 pub fn mesh_md(s: &Settings, seed: u64) -> Result<String, String> {
     let (a, b) = (normalised("armadillo.off")?, normalised("fandisk_large.off")?);
-    let mut t = header("Mesh queries: tridist and parry3d on the same meshes and poses", &s.command, seed);
+    let mut t =
+        header("Mesh queries: tridist, FCL and parry3d on the same meshes and poses", &s.command, seed);
     let _ = writeln!(
         t,
-        "Armadillo ({} triangles) fixed at the origin, fandisk ({} triangles) moved along the seed's trajectory: {} poses from 3 units on one side through the armadillo to 3 units on the other, rotating once about (1, 2, 3); both meshes scaled to [-1, 1]^3. tridist: `Engine::auto()` ({}), binary AABB tree, 4 triangles per leaf, the batch kernels at the leaves. parry3d / parry3d-f64 0.31: `TriMesh`, `query::distance` and `query::intersection_test`. Times: the median of repeated calls within {} ms per measurement, one thread, the same run. Contacts: the triangle pairs within 0.02 (1 % of the scene's size). Agreement: the distances of both libraries (the poses are built from the same axis and angle; parry rotates by a quaternion, tridist by a matrix, so they differ in rounding) and the intersection verdicts.\n",
+        "Armadillo ({} triangles) fixed at the origin, fandisk ({} triangles) moved along the seed's trajectory: {} poses from 3 units on one side through the armadillo to 3 units on the other, rotating once about (1, 2, 3); both meshes scaled to [-1, 1]^3. tridist: `Engine::auto()` ({}), a binary tree with an axis-aligned and an oriented box per node (pruning by the larger gap), 4 triangles per leaf, the batch kernels at the leaves; distance with closest points (`mesh_distance`), `mesh_intersect`, `mesh_contacts`. FCL 0.7 (double, `-O3 -march=native`): `BVHModel<OBBRSS>`, `fcl::distance` with nearest points and `fcl::collide` (one contact), {}. parry3d / parry3d-f64 0.31: `TriMesh`, `query::distance` and `query::intersection_test`. Times: the median of repeated calls within {} ms per measurement, one thread, the same run. Contacts: the triangle pairs within 0.02 (1 % of the scene's size) with their distances and closest points; FCL and parry have no such query here. Agreement: the distances of the three libraries (the poses are built from the same axis and angle: parry rotates by a quaternion, tridist and FCL by the same matrix, so they differ in rounding) and the intersection verdicts.\n",
         a.triangles.len(),
         b.triangles.len(),
         s.mesh_poses,
         Engine::auto().isa(),
+        if FclMesh::available() { "measured" } else { "**not measured: FCL was not found at build time** (`apt-get install libfcl-dev libeigen3-dev`, then rebuild)" },
         s.budget.as_millis()
     );
     for p in ["f32", "f64"] {
-        let (build, parry_build, rows) = if p == "f32" {
+        let m = if p == "f32" {
             rows::<f32>(&a, &b, s.budget, s.mesh_poses)?
         } else {
             rows::<f64>(&a, &b, s.budget, s.mesh_poses)?
         };
         let _ = writeln!(
             t,
-            "## {p}\n\nTree build of both meshes: tridist {} ms, parry3d {} ms.\n",
-            ms(build),
-            ms(parry_build)
+            "## tridist {p}\n\nTree build of both meshes: tridist {} ms, FCL {} ms, parry3d {} ms.\n",
+            ms(m.build),
+            m.fcl_build.map_or("-".to_string(), ms),
+            ms(m.parry_build)
         );
-        let _ = writeln!(t, "| pose (x) | distance | tridist distance ms | parry3d ms | parry3d / tridist | intersect (tridist, parry3d) | tridist ms | parry3d ms | contacts | contacts ms | agreement |\n|---|---|---|---|---|---|---|---|---|---|---|");
-        let (mut sum_ratio, mut worst) = (0.0, 0.0f64);
-        for r in &rows {
-            let diff = (r.d - r.parry_d).abs();
+        let _ = writeln!(t, "| pose (x) | distance | tridist ms | FCL ms | parry3d ms | FCL / tridist | parry3d / tridist | intersect (tridist, FCL, parry3d) | tridist ms | FCL ms | parry3d ms | contacts | contacts ms | agreement |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+        let (mut parry_ratio, mut fcl_ratio, mut worst) = (0.0, 0.0, 0.0f64);
+        let (mut sum_t, mut sum_fcl, mut sum_ti, mut sum_fcl_i) = (0.0, 0.0, 0.0, 0.0);
+        for r in &m.rows {
             let tol = if p == "f32" { 1e-4 } else { 1e-8 };
-            let agree = diff <= tol && r.parry_hit.is_none_or(|h| h == r.hit);
+            let diff =
+                (r.d - r.parry_d).abs().max(if r.fcl_d.is_nan() { 0.0 } else { (r.d - r.fcl_d).abs() });
+            let agree =
+                diff <= tol && r.parry_hit.is_none_or(|h| h == r.hit) && r.fcl_hit.is_none_or(|h| h == r.hit);
             worst = worst.max(diff);
-            sum_ratio += r.parry_t_d / r.t_d;
+            parry_ratio += r.parry_t_d / r.t_d;
+            fcl_ratio += r.fcl_t_d / r.t_d;
+            sum_t += r.t_d;
+            sum_fcl += r.fcl_t_d;
+            sum_ti += r.t_i;
+            sum_fcl_i += r.fcl_t_i;
             let _ = writeln!(
                 t,
-                "| {:+.2} | {:.6e} | {} | {} | {:.1}x | {}, {} | {} | {} | {} | {} | {} |",
+                "| {:+.2} | {:.6e} | {} | {} | {} | {} | {} | {}, {}, {} | {} | {} | {} | {} | {} | {} |",
                 r.x,
                 r.d,
                 ms(r.t_d),
+                ms(r.fcl_t_d),
                 ms(r.parry_t_d),
-                r.parry_t_d / r.t_d,
+                ratio(r.fcl_t_d / r.t_d, 2),
+                ratio(r.parry_t_d / r.t_d, 1),
                 if r.hit { "yes" } else { "no" },
+                verdict(r.fcl_hit),
                 r.parry_hit.map_or("unsupported", |h| if h { "yes" } else { "no" }),
                 ms(r.t_i),
+                ms(r.fcl_t_i),
                 ms(r.parry_t_i),
                 r.contacts,
                 ms(r.t_c),
                 if agree { "ok".to_string() } else { format!("**differ by {diff:.1e}**") }
             );
         }
+        let n = m.rows.len() as f64;
         let _ = writeln!(
             t,
-            "\nMean over the poses of parry3d's distance time / tridist's: **{:.1}x**; largest distance difference {worst:.1e}.\n",
-            sum_ratio / rows.len() as f64
+            "\nMean time per pose: distance tridist {} ms, FCL {} ms (FCL / tridist of the means **{}**; mean of the per-pose ratios {}); intersect tridist {} ms, FCL {} ms. parry3d's distance time / tridist's, mean over the poses: **{:.1}x**. Largest distance difference {worst:.1e}.\n",
+            ms(sum_t / n),
+            ms(sum_fcl / n),
+            ratio(sum_fcl / sum_t, 2),
+            ratio(fcl_ratio / n, 2),
+            ms(sum_ti / n),
+            ms(sum_fcl_i / n),
+            parry_ratio / n
         );
     }
-    let _ = writeln!(t, "Not measured yet (issue #15): FCL's mesh distance on these poses, 4- and 8-wide trees and oriented bounds, two threads.");
+    let _ = writeln!(t, "Not measured yet (issue #15): 4- and 8-wide trees, two threads on the contact query, near-contact placements at random orientations.");
     Ok(t)
 }

@@ -243,9 +243,11 @@ fn a_small_report_writes_parseable_files() {
         );
         assert!(!t.contains("EXCEEDED") && !t.contains("**NO**"), "{f} reports a bound exceeded");
     }
-    // the mesh table: both ends of the trajectory, apart, both libraries agreeing
+    // the mesh table: both ends of the trajectory, apart, the libraries agreeing (FCL when
+    // it was built)
     let mesh = std::fs::read_to_string(dir.join("MESH.md")).unwrap();
-    for p in ["## f32", "## f64"] {
+    let fcl = tridist_scenes::peer::FclMesh::available();
+    for p in ["## tridist f32", "## tridist f64"] {
         let rows: Vec<&str> = mesh
             .split(p)
             .nth(1)
@@ -258,8 +260,9 @@ fn a_small_report_writes_parseable_files() {
         for r in rows {
             let cells: Vec<&str> = r.split('|').map(str::trim).collect();
             assert!(cells[2].parse::<f64>().unwrap() > 0.5, "{r}"); // 3 units apart: a gap
-            assert_eq!(cells[6], "no, no", "{r}");
-            assert_eq!(cells[11], "ok", "{r}");
+            assert_eq!(cells[8], if fcl { "no, no, no" } else { "no, -, no" }, "{r}");
+            assert_eq!(cells[4].parse::<f64>().is_ok_and(|t| t > 0.0), fcl, "{r}"); // FCL's time
+            assert_eq!(cells[14], "ok", "{r}");
         }
     }
     let mut r = csv::Reader::from_path(dir.join("throughput.csv")).unwrap();

@@ -370,3 +370,129 @@ mod tests {
         assert_eq!(d[0], 2.0);
     }
 }
+
+#[cfg(tridist_fcl_mesh)]
+mod fcl_mesh_ffi {
+    use core::ffi::c_void;
+    extern "C" {
+        pub fn tridist_fcl_mesh_new(nv: usize, v: *const f64, nt: usize, t: *const u32) -> *mut c_void;
+        pub fn tridist_fcl_mesh_free(m: *mut c_void);
+        pub fn tridist_fcl_mesh_distance(
+            a: *const c_void,
+            ra: *const f64,
+            ta: *const f64,
+            b: *const c_void,
+            rb: *const f64,
+            tb: *const f64,
+        ) -> f64;
+        pub fn tridist_fcl_mesh_collide(
+            a: *const c_void,
+            ra: *const f64,
+            ta: *const f64,
+            b: *const c_void,
+            rb: *const f64,
+            tb: *const f64,
+        ) -> i32;
+    }
+}
+
+/// FCL's mesh (`BVHModel<OBBRSS<double>>`, its tree built), the mesh peer a C++ user would
+/// pick; double only (FCL's library instantiates double). Present when `build.rs` found FCL's
+/// headers and library ([`FclMesh::available`]).
+pub struct FclMesh {
+    #[cfg(tridist_fcl_mesh)]
+    ptr: *mut core::ffi::c_void,
+}
+
+impl FclMesh {
+    /// Whether the FCL mesh peer was built.
+    pub fn available() -> bool {
+        cfg!(tridist_fcl_mesh)
+    }
+
+    /// FCL's model of the mesh, or `None` when the peer was not built or an index names no
+    /// vertex.
+    #[allow(unused_variables)]
+    pub fn new(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Option<FclMesh> {
+        if triangles.iter().flatten().any(|&i| i as usize >= vertices.len()) {
+            return None;
+        }
+        #[cfg(tridist_fcl_mesh)]
+        {
+            // SAFETY: the shim reads 3 coordinates per vertex and 3 indices per triangle, within
+            // the slices, and only indices checked above to name a vertex; it returns an owned
+            // model that `Drop` frees once.
+            let ptr = unsafe {
+                fcl_mesh_ffi::tridist_fcl_mesh_new(
+                    vertices.len(),
+                    vertices.as_ptr().cast(),
+                    triangles.len(),
+                    triangles.as_ptr().cast(),
+                )
+            };
+            Some(FclMesh { ptr })
+        }
+        #[cfg(not(tridist_fcl_mesh))]
+        None
+    }
+
+    /// FCL's distance (not squared) between this mesh and `other`, each in its pose, nearest
+    /// points requested (as tridist computes its closest points).
+    #[allow(unused_variables)]
+    pub fn distance(
+        &self,
+        pose: &tridist::Pose<f64>,
+        other: &FclMesh,
+        other_pose: &tridist::Pose<f64>,
+    ) -> f64 {
+        #[cfg(tridist_fcl_mesh)]
+        // SAFETY: both models are live (owned by `self` and `other`); the shim reads 9 rotation
+        // and 3 translation values from each pose, which hold exactly that many.
+        return unsafe {
+            fcl_mesh_ffi::tridist_fcl_mesh_distance(
+                self.ptr,
+                pose.rotation.as_ptr().cast(),
+                pose.translation.as_ptr(),
+                other.ptr,
+                other_pose.rotation.as_ptr().cast(),
+                other_pose.translation.as_ptr(),
+            )
+        };
+        #[cfg(not(tridist_fcl_mesh))]
+        f64::NAN
+    }
+
+    /// Whether FCL finds the two placed meshes colliding (it stops at the first contact).
+    #[allow(unused_variables)]
+    pub fn collide(
+        &self,
+        pose: &tridist::Pose<f64>,
+        other: &FclMesh,
+        other_pose: &tridist::Pose<f64>,
+    ) -> bool {
+        #[cfg(tridist_fcl_mesh)]
+        // SAFETY: as in `distance`.
+        return unsafe {
+            fcl_mesh_ffi::tridist_fcl_mesh_collide(
+                self.ptr,
+                pose.rotation.as_ptr().cast(),
+                pose.translation.as_ptr(),
+                other.ptr,
+                other_pose.rotation.as_ptr().cast(),
+                other_pose.translation.as_ptr(),
+            ) != 0
+        };
+        #[cfg(not(tridist_fcl_mesh))]
+        false
+    }
+}
+
+impl Drop for FclMesh {
+    fn drop(&mut self) {
+        #[cfg(tridist_fcl_mesh)]
+        // SAFETY: `ptr` came from `tridist_fcl_mesh_new` and is freed only here, once.
+        unsafe {
+            fcl_mesh_ffi::tridist_fcl_mesh_free(self.ptr)
+        }
+    }
+}
