@@ -618,10 +618,17 @@ impl<'m, T: Real> Side<'m, T> {
 }
 
 /// The lower bound of the squared distance between two nodes (moved bounds): the larger of
-/// their boxes' and their oriented boxes' gaps.
-fn node_gap2(x: &(Aabb, MovedObb), y: &(Aabb, MovedObb)) -> f64 {
-    let g = obb_gap(&x.1, &y.1);
-    box_gap2(&x.0, &y.0).max(g * g * (1.0 - 8.0 * f64::EPSILON))
+/// their boxes' and their oriented boxes' gaps; `None` when it exceeds the search's limit
+/// (the oriented boxes, dearer, are tried only when the boxes do not already prune).
+fn node_gap2<T: Real>(x: &(Aabb, MovedObb), y: &(Aabb, MovedObb), s: &impl Search<T>) -> Option<f64> {
+    let lim = s.limit(&x.0, &y.0);
+    let g = box_gap2(&x.0, &y.0);
+    if g > lim {
+        return None;
+    }
+    let o = obb_gap(&x.1, &y.1);
+    let g = g.max(o * o * (1.0 - 8.0 * f64::EPSILON));
+    (g <= lim).then_some(g)
 }
 
 /// What one mesh-vs-mesh query does on the one traversal they share ([`search`]).
@@ -657,7 +664,10 @@ fn search<T: Real, S: Search<T>>(
     let (mut sa, mut sb) = (Side::new(a, pa)?, Side::new(b, pb)?);
     let mut pend = Pending::new();
     // node pairs to visit: (lower bound of the squared gap, node of a, node of b)
-    let mut stack = vec![(node_gap2(sa.bounds(0), sb.bounds(0)), 0u32, 0u32)];
+    let mut stack = Vec::new();
+    if let Some(g) = node_gap2(sa.bounds(0), sb.bounds(0), s) {
+        stack.push((g, 0u32, 0u32));
+    }
     while let Some((gap, x, y)) = stack.pop() {
         let lim = s.limit(&sa.bounds(x).0, &sb.bounds(y).0);
         if gap > lim {
@@ -680,15 +690,15 @@ fn search<T: Real, S: Search<T>>(
         let split_a = ny.count > 0 || (nx.count == 0 && extent(nx) >= extent(ny));
         let mut kids = if split_a {
             let by = *sb.bounds(y);
-            [nx.first, nx.first + 1].map(|c| (node_gap2(sa.bounds(c), &by), c, y))
+            [nx.first, nx.first + 1].map(|c| (node_gap2(sa.bounds(c), &by, s), c, y))
         } else {
             let bx = *sa.bounds(x);
-            [ny.first, ny.first + 1].map(|c| (node_gap2(&bx, sb.bounds(c)), x, c))
+            [ny.first, ny.first + 1].map(|c| (node_gap2(&bx, sb.bounds(c), s), x, c))
         };
         if kids[0].0 < kids[1].0 {
             kids.swap(0, 1);
         }
-        stack.extend(kids);
+        stack.extend(kids.into_iter().filter_map(|(g, x, y)| Some((g?, x, y))));
     }
     if !pend.ids.is_empty() {
         s.flush(e, &pend)?;
@@ -876,7 +886,8 @@ impl Engine {
         };
         search(&e, a, pose_a, b, pose_b, &mut s)?;
         let mut found = s.found;
-        found.sort_by(|p, q| {
+        // unstable is deterministic here: no two contacts share their triangle pair
+        found.sort_unstable_by(|p, q| {
             p.sqdist.to_f64().total_cmp(&q.sqdist.to_f64()).then((p.tri_a, p.tri_b).cmp(&(q.tri_a, q.tri_b)))
         });
         if let Some(c) = cap {
