@@ -18,9 +18,15 @@
 //! The differential tests (`scenes/tests/mesh.rs`) check this against an exact brute force over all pairs.
 //!
 //! # The tree
-//! A binary tree of axis-aligned boxes in the mesh's own frame, split at the median centroid
-//! along the widest axis, at most [`LEAF`] triangles per leaf. Boxes are moved with the pose
-//! (centre moved, half-extent through `|R|`), which keeps them conservative for any rotation.
+//! A binary tree split at the median centroid along the widest axis, at most [`LEAF`]
+//! triangles per leaf. Each node has two bounds: an axis-aligned box in the mesh's own frame,
+//! moved with the pose (centre moved, half-extent through `|R|`: conservative for any
+//! rotation, but loose for rotated flat patches), and an oriented box on the principal axes
+//! of its vertices (`Obb`: thin around a flat patch in any pose), certified to contain every
+//! vertex exactly despite f64 rounding and moved exactly as a parallelepiped. A node pair's
+//! lower bound is the larger of the boxes' gap and the oriented boxes' six-axis projection
+//! gap; the oriented boxes are tried only when the boxes do not already prune. Each node's
+//! moved bounds and each leaf's moved triangles are computed once per query.
 
 use crate::engine::Outputs;
 use crate::{ClosestPoints, Engine, Error, Intersection, Point, Pose, Query, Real, Triangle};

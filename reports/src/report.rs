@@ -363,10 +363,11 @@ pub fn run_report(s: &Settings) -> Result<(), String> {
     )?;
     write_file(&s.out_dir, "penalty.svg", &penalty_plot(&pen32, &pen64).render()?)?;
     write_file(&s.out_dir, "TRADEOFF.md", &tradeoff_md(s, seed, &m, &pen32, &pen64))?;
-    write_file(&s.out_dir, "MESH.md", &crate::meshreport::mesh_md(s, seed)?)?;
+    let (mesh, mesh_summary) = crate::meshreport::mesh_md(s, seed)?;
+    write_file(&s.out_dir, "MESH.md", &mesh)?;
     prog.step("writing reports");
     if let Some(readme) = &s.readme {
-        update_readme(readme, &m)?;
+        update_readme(readme, &m, &mesh_summary)?;
     }
     prog.step("README results");
     if !m.failed.is_empty() {
@@ -808,7 +809,7 @@ fn tradeoff_md(s: &Settings, seed: u64, m: &Measured, p32: &[PenaltyRow], p64: &
     tr
 }
 
-fn update_readme(path: &Path, m: &Measured) -> Result<(), String> {
+fn update_readme(path: &Path, m: &Measured, mesh: &str) -> Result<(), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let (b, e) = ("<!-- results:begin -->", "<!-- results:end -->");
     let (Some(i), Some(j)) = (text.find(b), text.find(e)) else {
@@ -849,7 +850,8 @@ fn update_readme(path: &Path, m: &Measured) -> Result<(), String> {
             ratio(q(wl, bn, "f32"), q(wl, "scalar", "f32"))
         );
     }
-    let _ = writeln!(s, "\n![throughput vs error](reports/tradeoff.svg)\n\nFull tables: [reports/ACCURACY.md](reports/ACCURACY.md), [reports/THROUGHPUT.md](reports/THROUGHPUT.md), [reports/TRADEOFF.md](reports/TRADEOFF.md), mesh queries against parry3d: [reports/MESH.md](reports/MESH.md).");
+    let _ = writeln!(s, "{mesh}");
+    let _ = writeln!(s, "\n![throughput vs error](reports/tradeoff.svg)\n\nFull tables: [reports/ACCURACY.md](reports/ACCURACY.md), [reports/THROUGHPUT.md](reports/THROUGHPUT.md), [reports/TRADEOFF.md](reports/TRADEOFF.md), mesh queries against FCL and parry3d: [reports/MESH.md](reports/MESH.md).");
     let out = format!("{}{}{}", &text[..i], s, &text[j..]);
     std::fs::write(path, out).map_err(|e| format!("{}: {e}", path.display()))
 }
