@@ -388,11 +388,12 @@ struct MovedObb {
 }
 
 /// A lower bound of the distance between two moved oriented boxes: the largest gap of their
-/// projections on the six box axes, less the balls and every rounding.
+/// projections on the six box axes and the line through their centres (the good axis for
+/// boxes apart along a diagonal), less the balls and every rounding.
 fn obb_gap(a: &MovedObb, b: &MovedObb) -> f64 {
     let dc = [0, 1, 2].map(|k| b.c[k] - a.c[k]);
     let mut best = 0.0f64;
-    for n in a.e.iter().chain(&b.e) {
+    for n in a.e.iter().chain(&b.e).chain([&dc]) {
         let ra: f64 = (0..3).map(|i| a.h[i] * dot(&a.e[i], n).abs()).sum();
         let rb: f64 = (0..3).map(|i| b.h[i] * dot(&b.e[i], n).abs()).sum();
         let g = dot(&dc, n).abs() - ra - rb;
