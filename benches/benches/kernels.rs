@@ -160,6 +160,16 @@ fn meshes(c: &mut Criterion) {
                     .sum::<usize>()
             })
         });
+        // the contact query on two threads (Engine::threads): its scaling on 2 cores
+        let e2 = e.threads(2);
+        g.bench_function("contacts_0.02/2_threads", |bch| {
+            bch.iter(|| {
+                poses
+                    .iter()
+                    .map(|p| e2.mesh_contacts(&a, &id, &b, p, margin, None).expect("finite").len())
+                    .sum::<usize>()
+            })
+        });
         g.bench_function("intersect", |bch| {
             bch.iter(|| {
                 poses.iter().filter(|p| e.mesh_intersect(&a, &id, &b, p).expect("finite").is_some()).count()

@@ -652,9 +652,74 @@ trait Search<T: Real> {
     fn flush(&mut self, e: &Engine, pend: &Pending<T>) -> Result<bool, Error>;
 }
 
-/// The traversal of two trees every mesh-vs-mesh query runs: node pairs nearest first
-/// (depth first, the nearer child pair on top), pruned by `s.limit`, leaf pairs gathered into
-/// batches for the kernels.
+/// A node pair to visit: (lower bound of the squared gap, node of a, node of b).
+type Visit = (f64, u32, u32);
+
+/// The root pair of two sides, unless pruned.
+fn root_visit<T: Real>(sa: &mut Side<'_, T>, sb: &mut Side<'_, T>, s: &impl Search<T>) -> Option<Visit> {
+    node_gap2(sa.bounds(0), sb.bounds(0), s).map(|g| (g, 0, 0))
+}
+
+/// The child pairs of the internal pair (x, y), not pruned, the nearer last: the larger
+/// internal node is split.
+fn children<T: Real>(
+    sa: &mut Side<'_, T>,
+    sb: &mut Side<'_, T>,
+    (x, y): (u32, u32),
+    s: &impl Search<T>,
+) -> [Option<Visit>; 2] {
+    let (nx, ny) = (&sa.mesh.nodes[x as usize], &sb.mesh.nodes[y as usize]);
+    let extent = |n: &Node| (0..3).map(|k| n.hi[k] - n.lo[k]).fold(0.0, f64::max);
+    let split_a = ny.count > 0 || (nx.count == 0 && extent(nx) >= extent(ny));
+    let mut kids = if split_a {
+        let (first, by) = (nx.first, *sb.bounds(y));
+        [first, first + 1].map(|c| node_gap2(sa.bounds(c), &by, s).map(|g| (g, c, y)))
+    } else {
+        let (first, bx) = (ny.first, *sa.bounds(x));
+        [first, first + 1].map(|c| node_gap2(&bx, sb.bounds(c), s).map(|g| (g, x, c)))
+    };
+    if kids[0].map_or(f64::INFINITY, |k| k.0) < kids[1].map_or(f64::INFINITY, |k| k.0) {
+        kids.swap(0, 1);
+    }
+    kids
+}
+
+/// The traversal of two trees every mesh-vs-mesh query runs, from the node pairs on `stack`:
+/// node pairs nearest first (depth first, the nearer child pair on top), pruned by
+/// `s.limit`, leaf pairs gathered into batches for the kernels.
+fn walk<T: Real, S: Search<T>>(
+    e: &Engine,
+    sa: &mut Side<'_, T>,
+    sb: &mut Side<'_, T>,
+    mut stack: Vec<Visit>,
+    s: &mut S,
+) -> Result<(), Error> {
+    let mut pend = Pending::new();
+    while let Some((gap, x, y)) = stack.pop() {
+        let lim = s.limit(&sa.bounds(x).0, &sb.bounds(y).0);
+        if gap > lim {
+            continue;
+        }
+        if sa.mesh.nodes[x as usize].count > 0 && sb.mesh.nodes[y as usize].count > 0 {
+            pend.push_leaves(sa.leaf(x), sb.leaf(y), lim);
+            if pend.ids.len() >= FLUSH || (s.eager() && !pend.ids.is_empty()) {
+                let stop = s.flush(e, &pend)?;
+                pend.clear();
+                if stop {
+                    return Ok(());
+                }
+            }
+            continue;
+        }
+        stack.extend(children(sa, sb, (x, y), s).into_iter().flatten());
+    }
+    if !pend.ids.is_empty() {
+        s.flush(e, &pend)?;
+    }
+    Ok(())
+}
+
+/// [`walk`] from the roots of two meshes in their poses.
 fn search<T: Real, S: Search<T>>(
     e: &Engine,
     a: &Mesh<T>,
@@ -669,48 +734,8 @@ fn search<T: Real, S: Search<T>>(
         return Ok(());
     }
     let (mut sa, mut sb) = (Side::new(a, pa)?, Side::new(b, pb)?);
-    let mut pend = Pending::new();
-    // node pairs to visit: (lower bound of the squared gap, node of a, node of b)
-    let mut stack = Vec::new();
-    if let Some(g) = node_gap2(sa.bounds(0), sb.bounds(0), s) {
-        stack.push((g, 0u32, 0u32));
-    }
-    while let Some((gap, x, y)) = stack.pop() {
-        let lim = s.limit(&sa.bounds(x).0, &sb.bounds(y).0);
-        if gap > lim {
-            continue;
-        }
-        let (nx, ny) = (&a.nodes[x as usize], &b.nodes[y as usize]);
-        if nx.count > 0 && ny.count > 0 {
-            pend.push_leaves(sa.leaf(x), sb.leaf(y), lim);
-            if pend.ids.len() >= FLUSH || (s.eager() && !pend.ids.is_empty()) {
-                let stop = s.flush(e, &pend)?;
-                pend.clear();
-                if stop {
-                    return Ok(());
-                }
-            }
-            continue;
-        }
-        // split the larger internal node; the nearer child pair goes on top
-        let extent = |n: &Node| (0..3).map(|k| n.hi[k] - n.lo[k]).fold(0.0, f64::max);
-        let split_a = ny.count > 0 || (nx.count == 0 && extent(nx) >= extent(ny));
-        let mut kids = if split_a {
-            let by = *sb.bounds(y);
-            [nx.first, nx.first + 1].map(|c| (node_gap2(sa.bounds(c), &by, s), c, y))
-        } else {
-            let bx = *sa.bounds(x);
-            [ny.first, ny.first + 1].map(|c| (node_gap2(&bx, sb.bounds(c), s), x, c))
-        };
-        if kids[0].0 < kids[1].0 {
-            kids.swap(0, 1);
-        }
-        stack.extend(kids.into_iter().filter_map(|(g, x, y)| Some((g?, x, y))));
-    }
-    if !pend.ids.is_empty() {
-        s.flush(e, &pend)?;
-    }
-    Ok(())
+    let stack = root_visit(&mut sa, &mut sb, s).into_iter().collect();
+    walk(e, &mut sa, &mut sb, stack, s)
 }
 
 fn check_finite<T: Real>(d: T) -> Result<(), Error> {
@@ -844,6 +869,63 @@ impl<T: Real> Search<T> for FirstHit {
     }
 }
 
+/// The order of [`Engine::mesh_contacts`]: squared distance, then triangle numbers.
+fn contact_order<T: Real>(p: &Contact<T>, q: &Contact<T>) -> std::cmp::Ordering {
+    p.sqdist.to_f64().total_cmp(&q.sqdist.to_f64()).then((p.tri_a, p.tri_b).cmp(&(q.tri_a, q.tri_b)))
+}
+
+/// [`Engine::mesh_contacts`] on the engine's threads: the node pairs are split breadth first
+/// into pieces (at least 32 per thread where the trees allow), each walked on its own by a
+/// thread with its own moved bounds and leaves; the pieces' contacts are merged (the caller
+/// sorts them, so the answer is the single-threaded one).
+fn contacts_threaded<T: Real>(
+    e: &Engine,
+    a: &Mesh<T>,
+    pa: &Pose<T>,
+    b: &Mesh<T>,
+    pb: &Pose<T>,
+    state: &(impl Fn() -> Contacts<T> + Sync),
+) -> Result<Vec<Contact<T>>, Error> {
+    pa.check()?;
+    pb.check()?;
+    if a.is_empty() || b.is_empty() {
+        return Ok(Vec::new());
+    }
+    let (mut sa, mut sb) = (Side::new(a, pa)?, Side::new(b, pb)?);
+    let probe = state();
+    let want = 32 * e.thread_count();
+    let mut queue: std::collections::VecDeque<Visit> =
+        root_visit(&mut sa, &mut sb, &probe).into_iter().collect();
+    let mut pieces = Vec::new();
+    while pieces.len() + queue.len() < want {
+        let Some((g, x, y)) = queue.pop_front() else { break };
+        if sa.mesh.nodes[x as usize].count > 0 && sb.mesh.nodes[y as usize].count > 0 {
+            pieces.push((g, x, y));
+        } else {
+            queue.extend(children(&mut sa, &mut sb, (x, y), &probe).into_iter().flatten());
+        }
+    }
+    pieces.extend(queue);
+    let single = e.threads(1);
+    let found = crate::engine::par_map_init(
+        e.thread_count(),
+        &pieces,
+        || Side::new(a, pa).and_then(|sa| Ok((sa, Side::new(b, pb)?))),
+        |sides, &v| {
+            let (sa, sb) = sides.as_mut().map_err(|err| err.clone())?;
+            let mut s = state();
+            walk(&single, sa, sb, vec![v], &mut s)?;
+            s.found.sort_unstable_by(contact_order);
+            Ok(s.found)
+        },
+    );
+    let mut all = Vec::new();
+    for f in found {
+        all.extend(f?);
+    }
+    Ok(all)
+}
+
 impl Engine {
     /// The closest pair of triangles of two meshes in their poses: squared distance, closest
     /// points and the triangles that hold them (`None` when a mesh is empty). Touching or
@@ -869,7 +951,9 @@ impl Engine {
     /// squared distance then triangle numbers; with `cap`, the first `cap` of that order.
     ///
     /// Within the margin is decided as [`Engine::within_margin_triangle_triangle`] decides it
-    /// (the full triangle-triangle answer, thresholded), pair by pair.
+    /// (the full triangle-triangle answer, thresholded), pair by pair. With
+    /// [`Engine::threads`] above 1 the traversal is split into pieces walked in parallel; the
+    /// answer is the same.
     ///
     /// # Errors
     /// [`Error::InvalidMargin`], [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].
@@ -883,7 +967,7 @@ impl Engine {
         cap: Option<usize>,
     ) -> Result<Vec<Contact<T>>, Error> {
         let e = self.margin(margin.to_f64())?;
-        let mut s = Contacts {
+        let state = || Contacts {
             margin: margin.to_f64(),
             tol: e.current_tolerance(),
             found: Vec::new(),
@@ -891,12 +975,20 @@ impl Engine {
             p: Vec::new(),
             q: Vec::new(),
         };
-        search(&e, a, pose_a, b, pose_b, &mut s)?;
-        let mut found = s.found;
-        // unstable is deterministic here: no two contacts share their triangle pair
-        found.sort_unstable_by(|p, q| {
-            p.sqdist.to_f64().total_cmp(&q.sqdist.to_f64()).then((p.tri_a, p.tri_b).cmp(&(q.tri_a, q.tri_b)))
-        });
+        let mut found = if self.thread_count() > 1 {
+            contacts_threaded(&e, a, pose_a, b, pose_b, &state)?
+        } else {
+            let mut s = state();
+            search(&e, a, pose_a, b, pose_b, &mut s)?;
+            s.found
+        };
+        // deterministic either way: no two contacts share their triangle pair; the threaded
+        // pieces come sorted, and the stable sort merges such runs
+        if self.thread_count() > 1 {
+            found.sort_by(contact_order);
+        } else {
+            found.sort_unstable_by(contact_order);
+        }
         if let Some(c) = cap {
             found.truncate(c);
         }

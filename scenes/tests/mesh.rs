@@ -35,3 +35,35 @@ fn mesh_queries_against_exact_brute_force() {
         worst.e, worst.what
     );
 }
+
+/// Contacts on two threads (the traversal split into pieces walked in parallel) are exactly
+/// the single-threaded contacts, on the report's interpenetrating poses of Armadillo and
+/// fandisk (thousands of contacts) and on a separated one (none).
+#[test]
+fn threaded_contacts_are_the_single_threaded_ones() {
+    use tridist_scenes::protocol::{carried_normalised, trajectory_pose};
+    fn run<T: tridist::Real>() {
+        let load = |n: &str| {
+            let m = carried_normalised(n).unwrap();
+            tridist::Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles).unwrap()
+        };
+        let (a, b) = (load("armadillo.off"), load("fandisk_large.off"));
+        let e = tridist::Engine::auto();
+        let id = tridist::Pose::<T>::identity();
+        for k in [0, 4, 5, 7] {
+            let p = trajectory_pose(k, 12).1;
+            let p = tridist::Pose {
+                rotation: p.rotation.map(|r| r.map(T::from_f64)),
+                translation: p.translation.map(T::from_f64),
+            };
+            let m = T::from_f64(0.02);
+            let one = e.mesh_contacts(&a, &id, &b, &p, m, None).unwrap();
+            let two = e.threads(2).mesh_contacts(&a, &id, &b, &p, m, None).unwrap();
+            assert_eq!(one.len(), two.len(), "pose {k}");
+            assert!(one == two, "pose {k}: threaded contacts differ");
+            assert_eq!(one.is_empty(), k == 0, "pose {k}: {} contacts", one.len());
+        }
+    }
+    run::<f32>();
+    run::<f64>();
+}
