@@ -21,6 +21,8 @@ struct Row {
     hit: bool,
     contacts: usize,
     t_c: f64,
+    /// The contact query on two threads.
+    t_c2: f64,
     parry_d: f64,
     parry_t_d: f64,
     parry_hit: Option<bool>,
@@ -81,6 +83,14 @@ fn rows<T: Peer + Real>(
             || contacts = e.mesh_contacts(&ma, &id, &mb, &pose, margin, None).map_or(usize::MAX, |c| c.len()),
             budget,
         );
+        let e2 = e.threads(2);
+        let t_c2 = median_time(
+            || {
+                contacts =
+                    e2.mesh_contacts(&ma, &id, &mb, &pose, margin, None).map_or(usize::MAX, |c| c.len())
+            },
+            budget,
+        );
         let mut parry_d = f64::NAN;
         let parry_t_d = median_time(|| parry_d = T::mesh_distance(&pa, &peer_id, &pb, &pp), budget);
         let mut parry_hit = None;
@@ -99,6 +109,7 @@ fn rows<T: Peer + Real>(
             hit,
             contacts,
             t_c,
+            t_c2,
             parry_d,
             parry_t_d,
             parry_hit,
@@ -153,7 +164,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         header("Mesh queries: tridist, FCL and parry3d on the same meshes and poses", &s.command, seed);
     let _ = writeln!(
         t,
-        "Armadillo ({} triangles) fixed at the origin, fandisk ({} triangles) moved along the seed's trajectory: {} poses from 3 units on one side through the armadillo to 3 units on the other, rotating once about (1, 2, 3); both meshes scaled to [-1, 1]^3. tridist: `Engine::auto()` ({}), a binary tree with an axis-aligned and an oriented box per node (pruning by the larger gap), 4 triangles per leaf, the batch kernels at the leaves; distance with closest points (`mesh_distance`), `mesh_intersect`, `mesh_contacts`. FCL 0.7, double, the library as the distribution ships it (`libfcl-dev`; the shim's glue only is compiled here, so unlike the triangle peer it is not built with `-march=native`): `BVHModel<OBBRSS>`, `fcl::distance` with nearest points and `fcl::collide` (one contact), {}. parry3d / parry3d-f64 0.31: `TriMesh`, `query::distance` and `query::intersection_test`. Times: the median of repeated calls within {} ms per measurement, one thread, the same run. Contacts: the triangle pairs within 0.02 (1 % of the scene's size) with their distances and closest points; FCL and parry have no such query here. Agreement: the distances of the three libraries (the poses are built from the same axis and angle: parry rotates by a quaternion, tridist and FCL by the same matrix, so they differ in rounding) and the intersection verdicts.\n",
+        "Armadillo ({} triangles) fixed at the origin, fandisk ({} triangles) moved along the seed's trajectory: {} poses from 3 units on one side through the armadillo to 3 units on the other, rotating once about (1, 2, 3); both meshes scaled to [-1, 1]^3. tridist: `Engine::auto()` ({}), a binary tree with an axis-aligned and an oriented box per node (pruning by the larger gap), 4 triangles per leaf, the batch kernels at the leaves; distance with closest points (`mesh_distance`), `mesh_intersect`, `mesh_contacts`. FCL 0.7, double, the library as the distribution ships it (`libfcl-dev`; the shim's glue only is compiled here, so unlike the triangle peer it is not built with `-march=native`): `BVHModel<OBBRSS>`, `fcl::distance` with nearest points and `fcl::collide` (one contact), {}. parry3d / parry3d-f64 0.31: `TriMesh`, `query::distance` and `query::intersection_test`. Times: the median of repeated calls within {} ms per measurement, one thread (the contact query also on two), the same run. Contacts: the triangle pairs within 0.02 (1 % of the scene's size) with their distances and closest points; FCL and parry have no such query here. Agreement: the distances of the three libraries (the poses are built from the same axis and angle: parry rotates by a quaternion, tridist and FCL by the same matrix, so they differ in rounding) and the intersection verdicts.\n",
         a.triangles.len(),
         b.triangles.len(),
         s.mesh_poses,
@@ -176,7 +187,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
             m.fcl_build.map_or("-".to_string(), ms),
             ms(m.parry_build)
         );
-        let _ = writeln!(t, "| pose (x) | distance | tridist ms | FCL ms | parry3d ms | FCL / tridist | parry3d / tridist | intersect (tridist, FCL, parry3d) | tridist ms | FCL ms | parry3d ms | contacts | contacts ms | agreement |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(t, "| pose (x) | distance | tridist ms | FCL ms | parry3d ms | FCL / tridist | parry3d / tridist | intersect (tridist, FCL, parry3d) | tridist ms | FCL ms | parry3d ms | contacts | contacts ms | 2 threads ms | agreement |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
         let (mut parry_ratio, mut fcl_ratio, mut worst) = (0.0, 0.0, 0.0f64);
         let (mut sum_t, mut sum_fcl, mut sum_ti, mut sum_fcl_i) = (0.0, 0.0, 0.0, 0.0);
         for r in &m.rows {
@@ -194,7 +205,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
             sum_fcl_i += r.fcl_t_i;
             let _ = writeln!(
                 t,
-                "| {:+.2} | {:.6e} | {} | {} | {} | {} | {} | {}, {}, {} | {} | {} | {} | {} | {} | {} |",
+                "| {:+.2} | {:.6e} | {} | {} | {} | {} | {} | {}, {}, {} | {} | {} | {} | {} | {} | {} | {} |",
                 r.x,
                 r.d,
                 ms(r.t_d),
@@ -210,6 +221,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
                 ms(r.parry_t_i),
                 r.contacts,
                 ms(r.t_c),
+                ms(r.t_c2),
                 if agree { "ok".to_string() } else { format!("**differ by {diff:.1e}**") }
             );
         }
@@ -227,7 +239,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         );
         means.push((sum_t / n, sum_fcl / n, sum_ti / n, sum_fcl_i / n, parry_ratio / n));
     }
-    let _ = writeln!(t, "Not measured yet (issue #15): 4- and 8-wide trees, two threads on the contact query, near-contact placements at random orientations.");
+    let _ = writeln!(t, "Contacts on two threads: `Engine::threads(2)`, the traversal split into pieces walked in parallel (same contacts).\n\nNot measured yet (issue #15): 4- and 8-wide trees, near-contact placements at random orientations.");
     let (m32, m64) = (means[0], means[1]);
     let summary = format!(
         "- Mesh distance with closest points, Armadillo vs fandisk ({} poses through each other), one thread, mean per pose: tridist f32 {} ms, f64 {} ms; FCL (OBBRSS, double) {} ms: **{} (f32)** and **{} (f64)** FCL's speed; parry3d {:.1}x slower than tridist f32. Collision: tridist {} ms, FCL {} ms ([reports/MESH.md](reports/MESH.md)).",

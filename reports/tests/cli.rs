@@ -262,7 +262,7 @@ fn a_small_report_writes_parseable_files() {
             assert!(cells[2].parse::<f64>().unwrap() > 0.5, "{r}"); // 3 units apart: a gap
             assert_eq!(cells[8], if fcl { "no, no, no" } else { "no, -, no" }, "{r}");
             assert_eq!(cells[4].parse::<f64>().is_ok_and(|t| t > 0.0), fcl, "{r}"); // FCL's time
-            assert_eq!(cells[14], "ok", "{r}");
+            assert_eq!(cells[15], "ok", "{r}");
         }
     }
     let mut r = csv::Reader::from_path(dir.join("throughput.csv")).unwrap();
