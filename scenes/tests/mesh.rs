@@ -20,21 +20,37 @@ use tridist_scenes::mesh_scenes::{check_scene, scene, Limits, Worst, FAMILIES, M
 const SCENES: u64 = 4;
 const K: usize = 7;
 
-#[test]
-fn mesh_queries_against_exact_brute_force() {
+/// One family, both precisions (one test per family: the harness runs them in parallel).
+fn family(fam: &'static str) {
     let mut worst = Worst::default();
-    for fam in FAMILIES {
-        for idx in 0..SCENES {
-            let s = scene(fam, 1, idx, K);
-            check_scene::<f32>(&s, idx, &Limits::MEASURED, &mut worst).unwrap();
-            check_scene::<f64>(&s, idx, &Limits::MEASURED, &mut worst).unwrap();
-        }
+    for idx in 0..SCENES {
+        let s = scene(fam, 1, idx, K);
+        check_scene::<f32>(&s, idx, &Limits::MEASURED, &mut worst).unwrap();
+        check_scene::<f64>(&s, idx, &Limits::MEASURED, &mut worst).unwrap();
     }
     println!(
-        "largest mesh E: {:.3} at {} (measured: {MEASURED_E}, contact points' distance {MEASURED_GAP})",
+        "{fam}: largest mesh E {:.3} at {} (measured over all families: {MEASURED_E}, contact points' distance {MEASURED_GAP})",
         worst.e, worst.what
     );
 }
+
+macro_rules! family_tests {
+    ($($name:ident),*) => {
+        $(
+            #[test]
+            fn $name() {
+                family(stringify!($name));
+            }
+        )*
+        /// Every family of `mesh_scenes` has its test here.
+        #[test]
+        fn every_family_is_tested() {
+            assert_eq!(FAMILIES, [$(stringify!($name)),*]);
+        }
+    };
+}
+
+family_tests!(separated, near_parallel, touching, interpenetrating, far, degenerate, needles);
 
 /// Contacts on two threads (the traversal split into pieces walked in parallel) are exactly
 /// the single-threaded contacts, on the report's interpenetrating poses of Armadillo and
