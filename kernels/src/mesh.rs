@@ -906,6 +906,10 @@ fn contacts_threaded<T: Real>(
         }
     }
     pieces.extend(queue);
+    if pieces.is_empty() {
+        // pruned at the root: no thread to wake
+        return Ok(Vec::new());
+    }
     let single = e.threads(1);
     let found = crate::engine::par_map_init(
         e.thread_count(),
