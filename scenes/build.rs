@@ -42,21 +42,24 @@ fn main() {
         println!("cargo:warning=FCL peer not built: FCL or Eigen headers not found (apt-get install libfcl-dev libeigen3-dev)");
         return;
     };
-    let mut b = cc::Build::new();
-    b.cpp(true)
-        .file(Path::new("peer/fcl_shim.cpp"))
-        .include(&fcl)
-        .include(&eigen)
-        .flag_if_supported("-std=c++14")
-        // FCL as its users build it for speed: optimised for this machine.
-        .flag_if_supported("-O3")
-        .flag_if_supported("-march=native")
-        // The shim's instantiations stay inside the shim: libfcl (the mesh peer) must not bind
-        // to these -march=native copies of its own templates (it crashed when it did), so no
-        // FCL_EXPORT (default visibility) on them, and hidden visibility.
-        .define("FCL_STATIC_DEFINE", None)
-        .flag_if_supported("-fvisibility=hidden")
-        .flag_if_supported("-w");
+    // Both shims: C++14, FCL's and Eigen's headers, hidden visibility (their instantiations
+    // of FCL's templates stay inside them), no warnings from FCL's headers.
+    let shim = |file: &str| {
+        let mut b = cc::Build::new();
+        b.cpp(true)
+            .file(Path::new(file))
+            .include(&fcl)
+            .include(&eigen)
+            .flag_if_supported("-std=c++14")
+            .flag_if_supported("-fvisibility=hidden")
+            .flag_if_supported("-w");
+        b
+    };
+    let mut b = shim("peer/fcl_shim.cpp");
+    // FCL as its users build it for speed: optimised for this machine. libfcl (the mesh peer)
+    // must not bind to these -march=native copies of its own templates (it crashed when it
+    // did): no FCL_EXPORT (default visibility) on them.
+    b.flag_if_supported("-O3").flag_if_supported("-march=native").define("FCL_STATIC_DEFINE", None);
     if b.try_compile("tridist_fcl_shim").is_ok() {
         println!("cargo:rustc-cfg=tridist_fcl");
     } else {
@@ -80,17 +83,10 @@ fn main() {
         println!("cargo:warning=FCL mesh peer not built: libfcl not found (apt-get install libfcl-dev)");
         return;
     };
-    let mut m = cc::Build::new();
     // Glue only (the measured work runs in libfcl as the distribution built it): no
     // -march=native, so that Eigen's object layout matches the library's.
-    m.cpp(true)
-        .file(Path::new("peer/fcl_mesh.cpp"))
-        .include(&fcl)
-        .include(&eigen)
-        .flag_if_supported("-std=c++14")
-        .flag_if_supported("-O2")
-        .flag_if_supported("-fvisibility=hidden")
-        .flag_if_supported("-w");
+    let mut m = shim("peer/fcl_mesh.cpp");
+    m.flag_if_supported("-O2");
     if m.try_compile("tridist_fcl_mesh").is_ok() {
         println!("cargo:rustc-link-search=native={}", lib.display());
         println!("cargo:rustc-link-lib=dylib=fcl");

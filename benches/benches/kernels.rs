@@ -152,24 +152,17 @@ fn meshes(c: &mut Criterion) {
                     .sum::<usize>()
             })
         });
-        g.bench_function("contacts_0.02", |bch| {
-            bch.iter(|| {
-                poses
-                    .iter()
-                    .map(|p| e.mesh_contacts(&a, &id, &b, p, margin, None).expect("finite").len())
-                    .sum::<usize>()
-            })
-        });
-        // the contact query on two threads (Engine::threads): its scaling on 2 cores
-        let e2 = e.threads(2);
-        g.bench_function("contacts_0.02/2_threads", |bch| {
-            bch.iter(|| {
-                poses
-                    .iter()
-                    .map(|p| e2.mesh_contacts(&a, &id, &b, p, margin, None).expect("finite").len())
-                    .sum::<usize>()
-            })
-        });
+        // the contact query on one thread and on two (Engine::threads): its scaling on 2 cores
+        for (id_, eng) in [("contacts_0.02", e), ("contacts_0.02/2_threads", e.threads(2))] {
+            g.bench_function(id_, |bch| {
+                bch.iter(|| {
+                    poses
+                        .iter()
+                        .map(|p| eng.mesh_contacts(&a, &id, &b, p, margin, None).expect("finite").len())
+                        .sum::<usize>()
+                })
+            });
+        }
         g.bench_function("intersect", |bch| {
             bch.iter(|| {
                 poses.iter().filter(|p| e.mesh_intersect(&a, &id, &b, p).expect("finite").is_some()).count()

@@ -550,46 +550,41 @@ fn run_pieces<T: Real>(isa: Isa, threads: usize, jobs: &mut [Job<'_, T>]) {
     pool(threads).install(|| jobs.par_iter_mut().for_each(|j| T::run_job(isa, j)));
 }
 
-/// `f` on every item, on up to `threads` threads (the pool of [`Engine::threads`]), each
-/// thread with its own state made by `init`; results in item order.
-#[cfg(feature = "rayon")]
+/// `f` on every item, on up to `threads` threads, each thread with its own state made by
+/// `init`; results in item order. The pool of [`Engine::threads`] with the `rayon` feature,
+/// scoped threads taking the next item as they finish without it.
 pub(crate) fn par_map_init<I: Sync, St, R: Send>(
     threads: usize,
     items: &[I],
     init: impl Fn() -> St + Sync + Send,
     f: impl Fn(&mut St, &I) -> R + Sync + Send,
 ) -> Vec<R> {
-    use rayon::prelude::*;
-    pool(threads).install(|| items.par_iter().map_init(init, f).collect())
-}
-
-/// `f` on every item, on up to `threads` scoped threads taking the next item as they finish,
-/// each with its own state made by `init`; results in item order.
-#[cfg(not(feature = "rayon"))]
-pub(crate) fn par_map_init<I: Sync, St, R: Send>(
-    threads: usize,
-    items: &[I],
-    init: impl Fn() -> St + Sync + Send,
-    f: impl Fn(&mut St, &I) -> R + Sync + Send,
-) -> Vec<R> {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    use std::sync::Mutex;
-    let next = AtomicUsize::new(0);
-    let out: Mutex<Vec<Option<R>>> = Mutex::new((0..items.len()).map(|_| None).collect());
-    std::thread::scope(|sc| {
-        for _ in 0..threads.min(items.len()) {
-            sc.spawn(|| {
-                let mut st = init();
-                loop {
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(item) = items.get(i) else { break };
-                    let r = f(&mut st, item);
-                    out.lock().unwrap_or_else(|e| e.into_inner())[i] = Some(r);
-                }
-            });
-        }
-    });
-    out.into_inner().unwrap_or_else(|e| e.into_inner()).into_iter().flatten().collect()
+    #[cfg(feature = "rayon")]
+    {
+        use rayon::prelude::*;
+        pool(threads).install(|| items.par_iter().map_init(init, f).collect())
+    }
+    #[cfg(not(feature = "rayon"))]
+    {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        use std::sync::Mutex;
+        let next = AtomicUsize::new(0);
+        let out: Mutex<Vec<Option<R>>> = Mutex::new((0..items.len()).map(|_| None).collect());
+        std::thread::scope(|sc| {
+            for _ in 0..threads.min(items.len()) {
+                sc.spawn(|| {
+                    let mut st = init();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(item) = items.get(i) else { break };
+                        let r = f(&mut st, item);
+                        out.lock().unwrap_or_else(|e| e.into_inner())[i] = Some(r);
+                    }
+                });
+            }
+        });
+        out.into_inner().unwrap_or_else(|e| e.into_inner()).into_iter().flatten().collect()
+    }
 }
 
 /// A persistent pool per thread count, made on first use.

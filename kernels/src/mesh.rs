@@ -380,17 +380,15 @@ impl Obb {
 /// vertices' motion in the working precision.
 #[derive(Clone, Copy, Debug)]
 struct MovedObb {
-    c: [f64; 3],
-    e: [[f64; 3]; 3],
-    h: [f64; 3],
-    rho: f64,
+    b: Obb,
     err: f64,
 }
 
 /// A lower bound of the distance between two moved oriented boxes: the largest gap of their
 /// projections on the six box axes and the line through their centres (the good axis for
 /// boxes apart along a diagonal), less the balls and every rounding.
-fn obb_gap(a: &MovedObb, b: &MovedObb) -> f64 {
+fn obb_gap(ma: &MovedObb, mb: &MovedObb) -> f64 {
+    let (a, b) = (&ma.b, &mb.b);
     let dc = [0, 1, 2].map(|k| b.c[k] - a.c[k]);
     let mut best = 0.0f64;
     for n in a.e.iter().chain(&b.e).chain([&dc]) {
@@ -401,7 +399,7 @@ fn obb_gap(a: &MovedObb, b: &MovedObb) -> f64 {
             // the computed projections are within (err_a + err_b) |n|_1 of the exact ones,
             // and this arithmetic within far less than its 1e-12 relative margin
             let len = dot(n, n).sqrt() * (1.0 + 1e-12);
-            let g = (g - (a.err + b.err) * norm1(n)) * (1.0 - 1e-12) / len;
+            let g = (g - (ma.err + mb.err) * norm1(n)) * (1.0 - 1e-12) / len;
             best = best.max(g);
         }
     }
@@ -444,15 +442,15 @@ impl Moved {
             slack += v * self.rel;
         }
         let frob = r.iter().flatten().map(|x| x * x).sum::<f64>().sqrt() * (1.0 + 1e-12);
-        MovedObb { c, e, h: o.h, rho: o.rho * frob + slack, err: 32.0 * f64::EPSILON * big }
+        MovedObb { b: Obb { c, e, h: o.h, rho: o.rho * frob + slack }, err: 32.0 * f64::EPSILON * big }
     }
 
-    /// `mesh`'s moved root box, or [`Error::NonFiniteCoordinate`] when it leaves the range of
-    /// `T` (a moved vertex could overflow).
-    fn root<T: Real>(&self, mesh: &Mesh<T>) -> Result<([f64; 3], [f64; 3]), Error> {
+    /// `Ok` unless `mesh`'s moved root box leaves the range of `T` (a moved vertex could
+    /// overflow): then [`Error::NonFiniteCoordinate`].
+    fn fits<T: Real>(&self, mesh: &Mesh<T>) -> Result<(), Error> {
         let b = mesh.moved_box(0, self);
         if b.0.iter().chain(&b.1).all(|x| x.abs() <= T::MAX.to_f64()) {
-            Ok(b)
+            Ok(())
         } else {
             Err(Error::NonFiniteCoordinate)
         }
@@ -574,7 +572,7 @@ impl<'m, T: Real> Side<'m, T> {
     /// The side, or [`Error::NonFiniteCoordinate`] when the moved mesh leaves the range of `T`.
     fn new(mesh: &'m Mesh<T>, pose: &'m Pose<T>) -> Result<Self, Error> {
         let mv = Moved::of(pose);
-        mv.root(mesh)?;
+        mv.fits(mesh)?;
         let n = mesh.nodes.len();
         Ok(Side {
             mesh,
@@ -1037,7 +1035,7 @@ impl Engine {
             return Ok(None);
         }
         let mv = Moved::of(pose);
-        mv.root(m)?;
+        mv.fits(m)?;
         let xf = x.map(Real::to_f64);
         let mut best: Option<MeshPoint<T>> = None;
         let mut best_d = f64::INFINITY;

@@ -262,6 +262,12 @@ fn excess(err: f64, u: f64, s: f64) -> f64 {
     }
 }
 
+/// The distance of a returned point from its triangle, as an excess E (exactly).
+fn off_triangle<T: Real>(pt: [T; 3], t: &[oracle::P3; 3], u: f64, s: f64) -> f64 {
+    let x = oracle::exact_point(&pt.map(Real::to_f64)).expect("finite");
+    excess(oracle::point_triangle(&x, t).d2.to_f64().sqrt(), u, s)
+}
+
 /// The largest E seen by [`check_scene`] and where.
 #[derive(Clone, Debug, Default)]
 pub struct Worst {
@@ -332,12 +338,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         let pair = d2[r.tri_a][r.tri_b].to_f64().sqrt();
         let err_pair = excess(r.sqdist.to_f64().sqrt() - pair, u, big_s);
         for (pt, t) in [(r.p, &ea[r.tri_a]), (r.q, &eb[r.tri_b])] {
-            let x = oracle::exact_point(&pt.map(Real::to_f64)).expect("finite");
-            note(
-                excess(oracle::point_triangle(&x, t).d2.to_f64().sqrt(), u, big_s),
-                "point off its triangle",
-                &tag,
-            )?;
+            note(off_triangle(pt, t, u, big_s), "point off its triangle", &tag)?;
         }
         note(err, "distance", &tag)?;
         note(err_pair, "reported pair", &tag)?;
@@ -355,12 +356,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
                 let own = d2[c.tri_a][c.tri_b].to_f64().sqrt();
                 note(excess(c.sqdist.to_f64().sqrt() - own, u, s), "contact distance", &tag)?;
                 for (pt, t) in [(c.p, &ea[c.tri_a]), (c.q, &eb[c.tri_b])] {
-                    let x = oracle::exact_point(&pt.map(Real::to_f64)).expect("finite");
-                    note(
-                        excess(oracle::point_triangle(&x, t).d2.to_f64().sqrt(), u, s),
-                        "contact point off its triangle",
-                        &tag,
-                    )?;
+                    note(off_triangle(pt, t, u, s), "contact point off its triangle", &tag)?;
                 }
                 // |p - q| against the pair's exact distance, as the triangle suite's point error
                 let pq = (0..3).map(|k| (c.p[k].to_f64() - c.q[k].to_f64()).powi(2)).sum::<f64>().sqrt();

@@ -394,6 +394,16 @@ mod fcl_mesh_ffi {
             tb: *const f64,
         ) -> i32;
     }
+
+    /// A query of two placed models (model, rotation rows, translation, each side).
+    pub type Query<R> = unsafe extern "C" fn(
+        *const c_void,
+        *const f64,
+        *const f64,
+        *const c_void,
+        *const f64,
+        *const f64,
+    ) -> R;
 }
 
 /// FCL's mesh (`BVHModel<OBBRSS<double>>`, its tree built), the mesh peer a C++ user would
@@ -437,7 +447,7 @@ impl FclMesh {
     }
 
     /// FCL's distance (not squared) between this mesh and `other`, each in its pose, nearest
-    /// points requested (as tridist computes its closest points).
+    /// points requested (as tridist computes its closest points); NaN without the peer.
     #[allow(unused_variables)]
     pub fn distance(
         &self,
@@ -446,23 +456,13 @@ impl FclMesh {
         other_pose: &tridist::Pose<f64>,
     ) -> f64 {
         #[cfg(tridist_fcl_mesh)]
-        // SAFETY: both models are live (owned by `self` and `other`); the shim reads 9 rotation
-        // and 3 translation values from each pose, which hold exactly that many.
-        return unsafe {
-            fcl_mesh_ffi::tridist_fcl_mesh_distance(
-                self.ptr,
-                pose.rotation.as_ptr().cast(),
-                pose.translation.as_ptr(),
-                other.ptr,
-                other_pose.rotation.as_ptr().cast(),
-                other_pose.translation.as_ptr(),
-            )
-        };
+        return self.placed(pose, other, other_pose, fcl_mesh_ffi::tridist_fcl_mesh_distance);
         #[cfg(not(tridist_fcl_mesh))]
         f64::NAN
     }
 
-    /// Whether FCL finds the two placed meshes colliding (it stops at the first contact).
+    /// Whether FCL finds the two placed meshes colliding (it stops at the first contact);
+    /// `false` without the peer.
     #[allow(unused_variables)]
     pub fn collide(
         &self,
@@ -471,19 +471,32 @@ impl FclMesh {
         other_pose: &tridist::Pose<f64>,
     ) -> bool {
         #[cfg(tridist_fcl_mesh)]
-        // SAFETY: as in `distance`.
-        return unsafe {
-            fcl_mesh_ffi::tridist_fcl_mesh_collide(
+        return self.placed(pose, other, other_pose, fcl_mesh_ffi::tridist_fcl_mesh_collide) != 0;
+        #[cfg(not(tridist_fcl_mesh))]
+        false
+    }
+
+    /// One of the shim's queries on this mesh and `other`, each in its pose.
+    #[cfg(tridist_fcl_mesh)]
+    fn placed<R>(
+        &self,
+        pose: &tridist::Pose<f64>,
+        other: &FclMesh,
+        other_pose: &tridist::Pose<f64>,
+        query: fcl_mesh_ffi::Query<R>,
+    ) -> R {
+        // SAFETY: both models are live (owned by `self` and `other`); the shim reads 9 rotation
+        // and 3 translation values from each pose, which hold exactly that many.
+        unsafe {
+            query(
                 self.ptr,
                 pose.rotation.as_ptr().cast(),
                 pose.translation.as_ptr(),
                 other.ptr,
                 other_pose.rotation.as_ptr().cast(),
                 other_pose.translation.as_ptr(),
-            ) != 0
-        };
-        #[cfg(not(tridist_fcl_mesh))]
-        false
+            )
+        }
     }
 }
 
