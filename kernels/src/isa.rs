@@ -105,39 +105,45 @@ pub(crate) trait Token: Copy + 'static {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Portable;
 
+/// The entry points of one instruction set and precision, generated from the registry: for
+/// each query a function `run` (attribute `$attr`: the instruction set's `target_feature`, or
+/// `inline(never)` for the portable code) instantiating the driver with the lane type `$l`, in a
+/// module of its own (`p32::TriTri::run`). The compiler partitions codegen units by module and
+/// merges only the smallest, so each large entry point is optimised in a unit of its own: the
+/// build's peak memory is that of one entry point per parallel job, not of every query of an
+/// instruction set at once (#17: 1.29 GB -> see ARCHITECTURE.md "Compile-time budget").
+macro_rules! entry_modules {
+    ($p:ident, $t:ty, $tok:ty, $attr:meta, $l:ty, $($v:ident, $m:ident :: $k:ident;)*) => {
+        mod $p {
+            use super::*;
+            $(
+                #[allow(non_snake_case)]
+                pub(super) mod $v {
+                    use super::*;
+                    #[$attr]
+                    pub(in super::super) fn run(k: $tok, job: &mut Job<'_, $t>) {
+                        crate::driver::run::<$l, crate::algo::$m::$k>(k, job)
+                    }
+                }
+            )*
+        }
+    };
+}
+pub(crate) use entry_modules;
+
 macro_rules! portable_entries {
     ([] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
-        // One out-of-line function per query and precision, a module per precision: small
-        // units for the compiler, optimised in parallel.
-        mod p32 {
-            use super::*;
-            $(
-                #[inline(never)]
-                #[allow(non_snake_case)]
-                pub(super) fn $v(k: Portable, job: &mut Job<'_, f32>) {
-                    crate::driver::run::<f32, crate::algo::$m::$k>(k, job)
-                }
-            )*
-        }
-        mod p64 {
-            use super::*;
-            $(
-                #[inline(never)]
-                #[allow(non_snake_case)]
-                pub(super) fn $v(k: Portable, job: &mut Job<'_, f64>) {
-                    crate::driver::run::<f64, crate::algo::$m::$k>(k, job)
-                }
-            )*
-        }
+        entry_modules!(p32, f32, Portable, inline(never), f32, $($v, $m::$k;)*);
+        entry_modules!(p64, f64, Portable, inline(never), f64, $($v, $m::$k;)*);
         impl Token for Portable {
             fn run_f32(self, job: &mut Job<'_, f32>) {
                 match job.query {
-                    $(Query::$v => p32::$v(self, job),)*
+                    $(Query::$v => p32::$v::run(self, job),)*
                 }
             }
             fn run_f64(self, job: &mut Job<'_, f64>) {
                 match job.query {
-                    $(Query::$v => p64::$v(self, job),)*
+                    $(Query::$v => p64::$v::run(self, job),)*
                 }
             }
         }

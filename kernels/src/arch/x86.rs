@@ -13,7 +13,7 @@
 use core::arch::x86_64::*;
 
 use crate::driver::Job;
-use crate::isa::{Isa, Token};
+use crate::isa::{entry_modules, Isa, Token};
 use crate::lanes::{Lanes, Mask};
 use crate::query::{for_each_query, Query};
 
@@ -392,43 +392,24 @@ vec_type!(
 );
 
 /// The entry points of one instruction set: for each query and precision a
-/// `#[target_feature]` function instantiating the driver with the token's lane types. Separate
-/// functions in one module per precision, so the compiler works on small units and optimises
-/// them in parallel (it partitions code units by module).
+/// `#[target_feature]` function instantiating the driver with the token's lane types, each in a
+/// module of its own (`crate::isa::entry_modules`).
 macro_rules! simd_entries {
     ([($tok:ty), ($feat:literal), ($l32:ty), ($l64:ty)] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
-        mod p32 {
-            use super::*;
-            $(
-                #[target_feature(enable = $feat)]
-                #[allow(non_snake_case)]
-                pub(super) fn $v(k: $tok, job: &mut Job<'_, f32>) {
-                    crate::driver::run::<$l32, crate::algo::$m::$k>(k, job)
-                }
-            )*
-        }
-        mod p64 {
-            use super::*;
-            $(
-                #[target_feature(enable = $feat)]
-                #[allow(non_snake_case)]
-                pub(super) fn $v(k: $tok, job: &mut Job<'_, f64>) {
-                    crate::driver::run::<$l64, crate::algo::$m::$k>(k, job)
-                }
-            )*
-        }
+        entry_modules!(p32, f32, $tok, target_feature(enable = $feat), $l32, $($v, $m::$k;)*);
+        entry_modules!(p64, f64, $tok, target_feature(enable = $feat), $l64, $($v, $m::$k;)*);
         impl Token for $tok {
             fn run_f32(self, job: &mut Job<'_, f32>) {
                 match job.query {
                     // SAFETY: `self` is a token of this instruction set: detection found every
                     // feature the entry point enables.
-                    $(Query::$v => unsafe { p32::$v(self, job) },)*
+                    $(Query::$v => unsafe { p32::$v::run(self, job) },)*
                 }
             }
             fn run_f64(self, job: &mut Job<'_, f64>) {
                 match job.query {
                     // SAFETY: as above.
-                    $(Query::$v => unsafe { p64::$v(self, job) },)*
+                    $(Query::$v => unsafe { p64::$v::run(self, job) },)*
                 }
             }
         }
