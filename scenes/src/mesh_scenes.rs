@@ -277,6 +277,84 @@ pub struct Worst {
     pub what: String,
 }
 
+/// The exact squared distance of every triangle pair that can matter to the checks: pairs
+/// whose bounding boxes are apart by more than `far` are skipped, and computed only if a query
+/// reports them. `far` is above an upper bound of the minimum distance (so the minimum is never
+/// skipped and a skipped pair never intersects) and above the largest contact margin the checks
+/// use plus its allowance, so a skipped pair must be absent from every contact set. The box gap
+/// is a certified lower bound: each coordinate difference is rounded once (relative error
+/// <= 2^-53), covered by the factor 1 - 1e-12; the upper bound (a vertex-vertex distance, a few
+/// roundings) by 1 + 1e-12.
+struct Brute<'a> {
+    ea: &'a [[oracle::P3; 3]],
+    eb: &'a [[oracle::P3; 3]],
+    d2: Vec<Vec<Option<Rational>>>,
+}
+
+impl<'a> Brute<'a> {
+    fn new<T: Real>(
+        ta: &[[[f64; 3]; 3]],
+        tb: &[[[f64; 3]; 3]],
+        ea: &'a [[oracle::P3; 3]],
+        eb: &'a [[oracle::P3; 3]],
+        big_s: f64,
+    ) -> Self {
+        let gap = |x: &[[f64; 3]; 3], y: &[[f64; 3]; 3]| {
+            (0..3)
+                .map(|k| {
+                    let (lo_x, hi_x) = (
+                        x.iter().map(|v| v[k]).fold(f64::INFINITY, f64::min),
+                        x.iter().map(|v| v[k]).fold(f64::NEG_INFINITY, f64::max),
+                    );
+                    let (lo_y, hi_y) = (
+                        y.iter().map(|v| v[k]).fold(f64::INFINITY, f64::min),
+                        y.iter().map(|v| v[k]).fold(f64::NEG_INFINITY, f64::max),
+                    );
+                    (lo_y - hi_x).max(lo_x - hi_y)
+                })
+                .fold(0.0f64, f64::max)
+                * (1.0 - 1e-12)
+        };
+        let vv = |x: &[[f64; 3]; 3], y: &[[f64; 3]; 3]| {
+            (0..3).map(|k| (x[0][k] - y[0][k]).powi(2)).sum::<f64>().sqrt() * (1.0 + 1e-12)
+        };
+        let upper = ta.iter().flat_map(|x| tb.iter().map(move |y| vv(x, y))).fold(f64::INFINITY, f64::min);
+        // check_scene's margins: at most 1.5 d* + 1e-3 S and 0.05 S, rounded to T, plus the
+        // verdict allowance 65 u S.
+        let s4 = big_s.min(4.0);
+        let u = T::UNIT_ROUNDOFF.to_f64();
+        let margin = (upper * 1.5 + 1e-3 * s4).max(0.05 * s4) * (1.0 + 4.0 * u);
+        let far = (upper.max(margin + 65.0 * u * big_s)) * (1.0 + 1e-12);
+        let d2 = ta
+            .iter()
+            .zip(ea)
+            .map(|(x, ex)| {
+                tb.iter()
+                    .zip(eb)
+                    .map(|(y, ey)| (gap(x, y) <= far).then(|| oracle::triangle_triangle(ex, ey).d2))
+                    .collect()
+            })
+            .collect();
+        Brute { ea, eb, d2 }
+    }
+
+    /// The exact minimum over all pairs.
+    fn min(&self) -> Rational {
+        self.d2.iter().flatten().flatten().min().expect("the nearest pair is never skipped").clone()
+    }
+
+    /// The pair's exact squared distance if it was computed.
+    fn known(&self, i: usize, j: usize) -> Option<&Rational> {
+        self.d2[i][j].as_ref()
+    }
+
+    /// The pair's exact squared distance, computed now if it was skipped.
+    fn get(&mut self, i: usize, j: usize) -> Rational {
+        let (ea, eb) = (self.ea, self.eb);
+        self.d2[i][j].get_or_insert_with(|| oracle::triangle_triangle(&ea[i], &eb[j]).d2).clone()
+    }
+}
+
 /// Checks the mesh queries of every available instruction set on scene `s` in precision `T`
 /// against the exact brute force over all pairs (computed once); `idx` seeds the query
 /// points. `Err` with a reproducible description on a violation (see `scenes/tests/mesh.rs`
@@ -289,21 +367,10 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
     let (ea, eb): (Vec<_>, Vec<_>) = (ta.iter().map(exact_tri).collect(), tb.iter().map(exact_tri).collect());
     let u = T::UNIT_ROUNDOFF.to_f64();
     let big_s = mag(&ta).max(mag(&tb));
-    // all pairs, exactly
-    let mut d2 = vec![vec![Rational::new(); eb.len()]; ea.len()];
-    let mut best = None::<Rational>;
-    let mut any_hit = false;
-    for (i, x) in ea.iter().enumerate() {
-        for (j, y) in eb.iter().enumerate() {
-            let d = oracle::triangle_triangle(x, y).d2;
-            any_hit |= d == 0;
-            if best.as_ref().is_none_or(|b| &d < b) {
-                best = Some(d.clone());
-            }
-            d2[i][j] = d;
-        }
-    }
-    let best = best.expect("non-empty meshes");
+    // all pairs, exactly, except those certified too far apart to matter (`Brute`)
+    let mut d2 = Brute::new::<T>(&ta, &tb, &ea, &eb, big_s);
+    let best = d2.min();
+    let any_hit = best == 0;
     let dstar = best.to_f64().sqrt();
     let mut rng = Rng::new(idx);
     let points: Vec<([T; 3], Rational)> = (0..4)
@@ -335,7 +402,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         // 1. distance
         let r = e.mesh_distance(&ma, &pa, &mb, &pb).map_err(|e| format!("{tag}: {e}"))?.expect("non-empty");
         let err = excess(r.sqdist.to_f64().sqrt() - dstar, u, big_s);
-        let pair = d2[r.tri_a][r.tri_b].to_f64().sqrt();
+        let pair = d2.get(r.tri_a, r.tri_b).to_f64().sqrt();
         let err_pair = excess(r.sqdist.to_f64().sqrt() - pair, u, big_s);
         for (pt, t) in [(r.p, &ea[r.tri_a]), (r.q, &eb[r.tri_b])] {
             note(off_triangle(pt, t, u, big_s), "point off its triangle", &tag)?;
@@ -353,7 +420,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
                 ensure!(c.sqdist.to_f64() <= m.to_f64() * m.to_f64(), "{tag}: contact beyond the margin");
                 // each contact's answer is its pair's, with points on its triangles
                 let s = big_s;
-                let own = d2[c.tri_a][c.tri_b].to_f64().sqrt();
+                let own = d2.get(c.tri_a, c.tri_b).to_f64().sqrt();
                 note(excess(c.sqdist.to_f64().sqrt() - own, u, s), "contact distance", &tag)?;
                 for (pt, t) in [(c.p, &ea[c.tri_a]), (c.q, &eb[c.tri_b])] {
                     note(off_triangle(pt, t, u, s), "contact point off its triangle", &tag)?;
@@ -362,8 +429,13 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
                 let pq = (0..3).map(|k| (c.p[k].to_f64() - c.q[k].to_f64()).powi(2)).sum::<f64>().sqrt();
                 note(excess(pq - own, u, s), "contact points' distance", &tag)?;
             }
-            for (i, row) in d2.iter().enumerate() {
-                for (j, d) in row.iter().enumerate() {
+            for i in 0..ta.len() {
+                for j in 0..tb.len() {
+                    let Some(d) = d2.known(i, j) else {
+                        // apart by more than any margin plus its allowance (Brute::new)
+                        ensure!(!seen.contains(&(i, j)), "{tag}: far pair ({i}, {j}) reported");
+                        continue;
+                    };
                     let s = mag(&[ta[i], tb[j]]);
                     let allow = 65.0 * u * s;
                     let (lo, hi) = ((m.to_f64() - allow).max(0.0), m.to_f64() + allow);
@@ -401,10 +473,11 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         match e.mesh_intersect(&ma, &pa, &mb, &pb).map_err(|e| format!("{tag}: {e}"))? {
             Some((i, j)) => {
                 let allow = 65.0 * u * mag(&[ta[i], tb[j]]);
+                let d = d2.get(i, j);
                 ensure!(
-                    d2[i][j] <= rat(allow) * rat(allow),
+                    d <= rat(allow) * rat(allow),
                     "{tag}: pair ({i}, {j}) said intersecting at {}",
-                    d2[i][j].to_f64().sqrt()
+                    d.to_f64().sqrt()
                 );
             }
             None => ensure!(!any_hit, "{tag}: intersecting meshes said apart"),
