@@ -217,7 +217,8 @@ impl<'a, T: Real> Outputs<'a, T> {
     pub fn new() -> Self {
         Outputs { sink: Sink::default() }
     }
-    /// Squared distances (within-margin: `+inf` beyond the margin; intersection: not written).
+    /// Squared distances (within-margin: `+inf` beyond the margin; [`Query::Intersect`]:
+    /// [`Error::NoSuchOutput`], as for every distance output).
     pub fn sqdist(mut self, out: &'a mut [T]) -> Self {
         self.sink.d = Some(out);
         self
@@ -233,10 +234,10 @@ impl<'a, T: Real> Outputs<'a, T> {
         self.sink.q = Some(q);
         self
     }
-    /// Certified intervals of the distance. Not for [`Query::Intersect`]: its separating-axis
-    /// test computes no distance, and what it writes here (and to `sqdist`) is its verdict
-    /// encoding (0 intersecting, 1 disjoint), not a distance interval; ask for
-    /// [`Outputs::verdicts`], or run [`Query::TriTri`] for a certified distance.
+    /// Certified intervals of the distance. Not for [`Query::Intersect`] (its separating-axis
+    /// test computes no distance): asking it for this, `sqdist`, `closest_points` or `points`
+    /// is [`Error::NoSuchOutput`]; ask for [`Outputs::verdicts`], or run [`Query::TriTri`] for a
+    /// certified distance.
     pub fn intervals(mut self, out: &'a mut [Interval<T>]) -> Self {
         self.sink.iv = Some(out);
         self
@@ -483,6 +484,9 @@ impl Engine {
             ("iterations", s.iters.as_ref().map(|x| x.len())),
         ];
         for (what, len) in lens {
+            if query.is_verdict() && len.is_some() && !matches!(what, "verdicts" | "iterations") {
+                return Err(Error::NoSuchOutput { query, output: what });
+            }
             if let Some(len) = len {
                 if len != n {
                     return Err(Error::LengthMismatch { what, expected: n, found: len });

@@ -30,6 +30,15 @@ pub enum Error {
     Unavailable(Isa),
     /// A variant name that is not one of `scalar`, `sse41`, `avx`, `avx2fma`.
     UnknownIsa(String),
+    /// An output the query does not compute was asked for: distances, closest points or
+    /// intervals of [`Query::Intersect`], whose separating-axis test decides a verdict without
+    /// computing a distance (ask for [`crate::Outputs::verdicts`], or run [`Query::TriTri`]).
+    NoSuchOutput {
+        /// The query.
+        query: Query,
+        /// The output asked for (`sqdist`, `closest_points`, `p`, `q`, `intervals`).
+        output: &'static str,
+    },
     /// The margin of a within-margin query is negative or not finite.
     InvalidMargin,
     /// Penalty-method options out of range (see [`crate::PenaltyOptions`]).
@@ -75,6 +84,10 @@ impl core::fmt::Display for Error {
             Error::UnknownIsa(s) => {
                 write!(f, "unknown variant {s:?} (expected scalar, sse41, avx or avx2fma)")
             }
+            Error::NoSuchOutput { query, output } => write!(
+                f,
+                "query {query} computes no {output}: it decides intersection only (ask for verdicts, or run tri_tri for distances)"
+            ),
             Error::InvalidMargin => write!(f, "margin must be finite and non-negative"),
             Error::InvalidOptions => write!(
                 f,

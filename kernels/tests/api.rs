@@ -177,6 +177,24 @@ fn misuse_is_an_error_not_a_panic() {
             e.run(Query::SegSeg, &a, &a, Outputs::new().sqdist(&mut out)),
             Err(Error::Arity { query: Query::SegSeg, expected: (2, 2), found: (3, 3) })
         ));
+        // the intersection test computes no distance: asking it for one is an error, each
+        // distance output alike; its verdicts (and the zero iteration counts) are fine
+        let mut iv = vec![Interval::default(); 5];
+        let mut cp = vec![ClosestPoints::default(); 5];
+        let (mut p5, mut q5) = (vec![[0.0; 3]; 5], vec![[0.0; 3]; 5]);
+        for (out, what) in [
+            (Outputs::new().sqdist(&mut out), "sqdist"),
+            (Outputs::new().intervals(&mut iv), "intervals"),
+            (Outputs::new().closest_points(&mut cp), "closest_points"),
+            (Outputs::new().points(&mut p5, &mut q5), "p"),
+        ] {
+            let r = e.run(Query::Intersect, &a, &a, out);
+            assert_eq!(r, Err(Error::NoSuchOutput { query: Query::Intersect, output: what }));
+            assert!(r.unwrap_err().to_string().contains("ask for verdicts"));
+        }
+        let (mut v, mut it) = (vec![Intersection::Invalid; 5], vec![7u32; 5]);
+        e.run(Query::Intersect, &a, &a, Outputs::new().verdicts(&mut v).iterations(&mut it)).unwrap();
+        assert!(v.iter().all(|&x| x == Intersection::Intersecting) && it == [0; 5]);
         assert_eq!(e.within_margin_triangle_triangle(&a, &a, -1.0, &mut out), Err(Error::InvalidMargin));
         assert_eq!(e.within_margin_triangle_triangle(&a, &a, f32::NAN, &mut out), Err(Error::InvalidMargin));
         assert_eq!(e.tolerance(Tolerance::scaled(-1.0)).err(), Some(Error::InvalidTolerance));

@@ -191,11 +191,16 @@ fn run_pairs<T: Float>(
         counts: PathCounts::default(),
     };
     let (pa, pb): (Vec<_>, Vec<_>) = cases.iter().map(|c| prims(query, c)).unzip();
-    let out = Outputs::new()
-        .sqdist(&mut o.d)
-        .points(&mut o.p, &mut o.q)
-        .intervals(&mut o.iv)
-        .verdicts(&mut o.verdict);
+    // a verdict query computes no distance: asking it for one is an error
+    let out = if query.is_verdict() {
+        Outputs::new().verdicts(&mut o.verdict)
+    } else {
+        Outputs::new()
+            .sqdist(&mut o.d)
+            .points(&mut o.p, &mut o.q)
+            .intervals(&mut o.iv)
+            .verdicts(&mut o.verdict)
+    };
     o.counts = match query.arity() {
         (2, 2) => {
             let a: Vec<[Point<T>; 2]> = pa.iter().map(|t| [t[0], t[1]]).collect();
