@@ -326,6 +326,15 @@ mod tests {
     use super::*;
 
     #[test]
+    fn fcl_mesh_refuses_what_tridist_refuses() {
+        let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        assert!(FclMesh::new(&v, &[]).is_none(), "no triangle");
+        assert!(FclMesh::new(&v, &[[0, 1, 3]]).is_none(), "index out of range");
+        assert!(FclMesh::new(&[[0.0, 0.0, 0.0], [1.0, f64::NAN, 0.0], [0.0, 1.0, 0.0]], &[[0, 1, 2]]).is_none());
+        assert_eq!(FclMesh::new(&v, &[[0, 1, 2]]).is_some(), FclMesh::available());
+    }
+
+    #[test]
     fn parry_answers_the_same_question() {
         let a = [[[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]];
         let b = [[[0.0f64, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]]];
@@ -420,11 +429,15 @@ impl FclMesh {
         cfg!(tridist_fcl_mesh)
     }
 
-    /// FCL's model of the mesh, or `None` when the peer was not built or an index names no
-    /// vertex.
+    /// FCL's model of the mesh, or `None` when the peer was not built, the mesh has no
+    /// triangle (FCL builds no tree for it), a coordinate is not finite, or an index names no
+    /// vertex: the cases `tridist::Mesh::new` refuses too.
     #[allow(unused_variables)]
     pub fn new(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Option<FclMesh> {
-        if triangles.iter().flatten().any(|&i| i as usize >= vertices.len()) {
+        if triangles.is_empty()
+            || !vertices.iter().flatten().all(|x| x.is_finite())
+            || triangles.iter().flatten().any(|&i| i as usize >= vertices.len())
+        {
             return None;
         }
         #[cfg(tridist_fcl_mesh)]
