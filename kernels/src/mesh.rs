@@ -553,6 +553,49 @@ struct Leaf<T> {
     boxes: [Aabb; LEAF],
 }
 
+/// Node-indexed scratch of a [`Side`], reused by the queries of one thread: an entry counts
+/// only when it carries the current query's stamp, so starting a query costs nothing whatever
+/// the trees' sizes (two fresh `vec![u32::MAX; nodes]` per side were most of a collision
+/// query's time on separated poses). Kept per thread: 12 bytes per node of the largest tree
+/// met, for each side alive at once.
+#[derive(Default)]
+struct Slots {
+    stamp: u32,
+    /// Per node: the stamp of the query that wrote it, its index in `Side::bounds`, its index
+    /// in `Side::leaves` (`u32::MAX`: not reached yet).
+    v: Vec<[u32; 3]>,
+}
+
+std::thread_local! {
+    static SLOTS: core::cell::RefCell<Vec<Slots>> = const { core::cell::RefCell::new(Vec::new()) };
+}
+
+impl Slots {
+    /// Scratch for a tree of `n` nodes, every entry unset.
+    fn take(n: usize) -> Slots {
+        let mut s = SLOTS.with(|p| p.borrow_mut().pop()).unwrap_or_default();
+        if s.v.len() < n {
+            s.v.resize(n, [0; 3]);
+        }
+        s.stamp = s.stamp.wrapping_add(1);
+        if s.stamp == 0 {
+            // after 2^32 queries: forget every stamp (0 is never current)
+            s.v.iter_mut().for_each(|e| e[0] = 0);
+            s.stamp = 1;
+        }
+        s
+    }
+
+    /// Node `i`'s entry for this query: `[_, bounds index, leaf index]`.
+    fn entry(&mut self, i: u32) -> &mut [u32; 3] {
+        let e = &mut self.v[i as usize];
+        if e[0] != self.stamp {
+            *e = [self.stamp, u32::MAX, u32::MAX];
+        }
+        e
+    }
+}
+
 /// One mesh of a query in its pose, with what the traversal has moved so far: each node's
 /// bounds and each leaf's triangles are moved once per query (a node meets many nodes of the
 /// other mesh).
@@ -560,12 +603,17 @@ struct Side<'m, T> {
     mesh: &'m Mesh<T>,
     pose: &'m Pose<T>,
     mv: Moved,
-    /// Per node: its index in `bounds`, or `u32::MAX` before it is reached.
-    slot: Vec<u32>,
+    slots: Slots,
     bounds: Vec<(Aabb, MovedObb)>,
-    /// Per node: its index in `leaves`, or `u32::MAX`.
-    leaf_slot: Vec<u32>,
     leaves: Vec<Leaf<T>>,
+}
+
+impl<T> Drop for Side<'_, T> {
+    fn drop(&mut self) {
+        let s = core::mem::take(&mut self.slots);
+        // a thread keeps as many as it had sides alive at once (two per query)
+        let _ = SLOTS.try_with(|p| p.borrow_mut().push(s));
+    }
 }
 
 impl<'m, T: Real> Side<'m, T> {
@@ -573,32 +621,24 @@ impl<'m, T: Real> Side<'m, T> {
     fn new(mesh: &'m Mesh<T>, pose: &'m Pose<T>) -> Result<Self, Error> {
         let mv = Moved::of(pose);
         mv.fits(mesh)?;
-        let n = mesh.nodes.len();
-        Ok(Side {
-            mesh,
-            pose,
-            mv,
-            slot: vec![u32::MAX; n],
-            bounds: Vec::new(),
-            leaf_slot: vec![u32::MAX; n],
-            leaves: Vec::new(),
-        })
+        let slots = Slots::take(mesh.nodes.len());
+        Ok(Side { mesh, pose, mv, slots, bounds: Vec::new(), leaves: Vec::new() })
     }
 
     /// Node `i`'s moved box and oriented box.
     fn bounds(&mut self, i: u32) -> &(Aabb, MovedObb) {
-        let k = self.slot[i as usize];
+        let k = self.slots.entry(i)[1];
         if k != u32::MAX {
             return &self.bounds[k as usize];
         }
-        self.slot[i as usize] = self.bounds.len() as u32;
+        self.slots.entry(i)[1] = self.bounds.len() as u32;
         self.bounds.push((self.mesh.moved_box(i as usize, &self.mv), self.mv.obb(self.mesh, i as usize)));
         &self.bounds[self.bounds.len() - 1]
     }
 
     /// Leaf node `i`, moved.
     fn leaf(&mut self, i: u32) -> &Leaf<T> {
-        let k = self.leaf_slot[i as usize];
+        let k = self.slots.entry(i)[2];
         if k != u32::MAX {
             return &self.leaves[k as usize];
         }
@@ -616,7 +656,7 @@ impl<'m, T: Real> Side<'m, T> {
             l.tris[k] = self.mesh.triangle_at(t as usize, self.pose);
             l.boxes[k] = tri_box(&l.tris[k]);
         }
-        self.leaf_slot[i as usize] = self.leaves.len() as u32;
+        self.slots.entry(i)[2] = self.leaves.len() as u32;
         self.leaves.push(l);
         &self.leaves[self.leaves.len() - 1]
     }

@@ -330,7 +330,9 @@ mod tests {
         let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         assert!(FclMesh::new(&v, &[]).is_none(), "no triangle");
         assert!(FclMesh::new(&v, &[[0, 1, 3]]).is_none(), "index out of range");
-        assert!(FclMesh::new(&[[0.0, 0.0, 0.0], [1.0, f64::NAN, 0.0], [0.0, 1.0, 0.0]], &[[0, 1, 2]]).is_none());
+        assert!(
+            FclMesh::new(&[[0.0, 0.0, 0.0], [1.0, f64::NAN, 0.0], [0.0, 1.0, 0.0]], &[[0, 1, 2]]).is_none()
+        );
         assert_eq!(FclMesh::new(&v, &[[0, 1, 2]]).is_some(), FclMesh::available());
     }
 
