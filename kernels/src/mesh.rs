@@ -411,14 +411,18 @@ struct Moved {
     r: [[f64; 3]; 3],
     t: [f64; 3],
     rel: f64,
+    /// The Frobenius norm of `r` rounded up: how much the rotation can stretch a ball.
+    frob: f64,
 }
 
 impl Moved {
     fn of<T: Real>(p: &Pose<T>) -> Moved {
+        let r = p.rotation.map(|row| row.map(Real::to_f64));
         Moved {
-            r: p.rotation.map(|row| row.map(Real::to_f64)),
+            r,
             t: p.translation.map(Real::to_f64),
             rel: 4.0 * T::UNIT_ROUNDOFF.to_f64() + 16.0 * f64::EPSILON,
+            frob: r.iter().flatten().map(|x| x * x).sum::<f64>().sqrt() * (1.0 + 1e-12),
         }
     }
 
@@ -441,8 +445,7 @@ impl Moved {
             // the vertices' motion in the working precision (as in `moved_box`)
             slack += v * self.rel;
         }
-        let frob = r.iter().flatten().map(|x| x * x).sum::<f64>().sqrt() * (1.0 + 1e-12);
-        MovedObb { b: Obb { c, e, h: o.h, rho: o.rho * frob + slack }, err: 32.0 * f64::EPSILON * big }
+        MovedObb { b: Obb { c, e, h: o.h, rho: o.rho * self.frob + slack }, err: 32.0 * f64::EPSILON * big }
     }
 
     /// `Ok` unless `mesh`'s moved root box leaves the range of `T` (a moved vertex could
