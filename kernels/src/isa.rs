@@ -111,7 +111,8 @@ pub(crate) struct Portable;
 /// module of its own (`p32::TriTri::run`). The compiler partitions codegen units by module and
 /// merges only the smallest, so each large entry point is optimised in a unit of its own: the
 /// build's peak memory is that of one entry point per parallel job, not of every query of an
-/// instruction set at once (#17: 1.29 GB -> see ARCHITECTURE.md "Compile-time budget").
+/// instruction set at once (#17: the release build's peak fell from 1.29 to 0.95 GB; see
+/// ARCHITECTURE.md "Compile-time budget").
 macro_rules! entry_modules {
     ($p:ident, $t:ty, $tok:ty, $attr:meta, $l:ty, $($v:ident, $m:ident :: $k:ident;)*) => {
         mod $p {

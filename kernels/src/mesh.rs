@@ -39,6 +39,10 @@ const FLUSH: usize = 64;
 
 /// An indexed triangle mesh and its bounding-volume hierarchy.
 ///
+/// Memory: besides the mesh and its tree, each thread that runs mesh-vs-mesh queries keeps a
+/// scratch of 12 bytes per tree node (two per query, sized by the largest trees it met), so
+/// that starting a query costs nothing whatever the meshes' sizes.
+///
 /// # Example (the README's)
 /// ```
 /// use tridist::{Engine, Mesh, Pose};
