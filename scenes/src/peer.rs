@@ -432,8 +432,9 @@ impl FclMesh {
     }
 
     /// FCL's model of the mesh, or `None` when the peer was not built, the mesh has no
-    /// triangle (FCL builds no tree for it), a coordinate is not finite, or an index names no
-    /// vertex: the cases `tridist::Mesh::new` refuses too.
+    /// triangle (FCL builds no tree for it; tridist accepts an empty mesh and its queries answer
+    /// `None`), a coordinate is not finite, or an index names no vertex (both refused by
+    /// `tridist::Mesh::new` too).
     #[allow(unused_variables)]
     pub fn new(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Option<FclMesh> {
         if triangles.is_empty()
