@@ -277,6 +277,18 @@ pub struct Worst {
     pub what: String,
 }
 
+/// The contact margins `check_scene` tries for a scene whose minimum distance is `dstar`: just
+/// above the minimum and 5 % of the size. Both grow with `dstar` ([`Brute`] relies on it).
+fn margins(dstar: f64, big_s: f64) -> [f64; 2] {
+    [dstar * 1.5 + 1e-3 * big_s.min(4.0), 0.05 * big_s.min(4.0)]
+}
+
+/// How far from a change of verdict a pair of magnitude `s` may get either verdict: the
+/// verdict contract, 65 u S.
+fn allowance(u: f64, s: f64) -> f64 {
+    65.0 * u * s
+}
+
 /// The exact squared distance of every triangle pair that can matter to the checks: pairs
 /// whose bounding boxes are apart by more than `far` are skipped, and computed only if a query
 /// reports them. `far` is above an upper bound of the minimum distance (so the minimum is never
@@ -299,37 +311,33 @@ impl<'a> Brute<'a> {
         eb: &'a [[oracle::P3; 3]],
         big_s: f64,
     ) -> Self {
-        let gap = |x: &[[f64; 3]; 3], y: &[[f64; 3]; 3]| {
-            (0..3)
-                .map(|k| {
-                    let (lo_x, hi_x) = (
-                        x.iter().map(|v| v[k]).fold(f64::INFINITY, f64::min),
-                        x.iter().map(|v| v[k]).fold(f64::NEG_INFINITY, f64::max),
-                    );
-                    let (lo_y, hi_y) = (
-                        y.iter().map(|v| v[k]).fold(f64::INFINITY, f64::min),
-                        y.iter().map(|v| v[k]).fold(f64::NEG_INFINITY, f64::max),
-                    );
-                    (lo_y - hi_x).max(lo_x - hi_y)
+        // each triangle's box once, then the largest per-axis gap of a pair's boxes
+        let boxes = |ts: &[[[f64; 3]; 3]]| -> Vec<[[f64; 3]; 2]> {
+            ts.iter()
+                .map(|t| {
+                    let lo = [0, 1, 2].map(|k| t.iter().map(|v| v[k]).fold(f64::INFINITY, f64::min));
+                    let hi = [0, 1, 2].map(|k| t.iter().map(|v| v[k]).fold(f64::NEG_INFINITY, f64::max));
+                    [lo, hi]
                 })
-                .fold(0.0f64, f64::max)
-                * (1.0 - 1e-12)
+                .collect()
+        };
+        let (ba, bb) = (boxes(ta), boxes(tb));
+        let gap = |x: &[[f64; 3]; 2], y: &[[f64; 3]; 2]| {
+            (0..3).map(|k| (y[0][k] - x[1][k]).max(x[0][k] - y[1][k])).fold(0.0f64, f64::max) * (1.0 - 1e-12)
         };
         let vv = |x: &[[f64; 3]; 3], y: &[[f64; 3]; 3]| {
             (0..3).map(|k| (x[0][k] - y[0][k]).powi(2)).sum::<f64>().sqrt() * (1.0 + 1e-12)
         };
         let upper = ta.iter().flat_map(|x| tb.iter().map(move |y| vv(x, y))).fold(f64::INFINITY, f64::min);
-        // check_scene's margins: at most 1.5 d* + 1e-3 S and 0.05 S, rounded to T, plus the
-        // verdict allowance 65 u S.
-        let s4 = big_s.min(4.0);
+        // check_scene's margins grow with d* <= upper; rounded to T, plus the allowance
         let u = T::UNIT_ROUNDOFF.to_f64();
-        let margin = (upper * 1.5 + 1e-3 * s4).max(0.05 * s4) * (1.0 + 4.0 * u);
-        let far = (upper.max(margin + 65.0 * u * big_s)) * (1.0 + 1e-12);
-        let d2 = ta
+        let margin = margins(upper, big_s).into_iter().fold(0.0, f64::max) * (1.0 + 4.0 * u);
+        let far = (upper.max(margin + allowance(u, big_s))) * (1.0 + 1e-12);
+        let d2 = ba
             .iter()
             .zip(ea)
             .map(|(x, ex)| {
-                tb.iter()
+                bb.iter()
                     .zip(eb)
                     .map(|(y, ey)| (gap(x, y) <= far).then(|| oracle::triangle_triangle(ex, ey).d2))
                     .collect()
@@ -411,7 +419,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         note(err_pair, "reported pair", &tag)?;
 
         // 2. contacts at a margin just above the minimum and at 5 % of the size
-        for margin in [dstar * 1.5 + 1e-3 * big_s.min(4.0), 0.05 * big_s.min(4.0)] {
+        for margin in margins(dstar, big_s) {
             let m = T::from_f64(margin);
             let got = e.mesh_contacts(&ma, &pa, &mb, &pb, m, None).map_err(|e| format!("{tag}: {e}"))?;
             let mut seen = std::collections::HashSet::new();
@@ -437,7 +445,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
                         continue;
                     };
                     let s = mag(&[ta[i], tb[j]]);
-                    let allow = 65.0 * u * s;
+                    let allow = allowance(u, s);
                     let (lo, hi) = ((m.to_f64() - allow).max(0.0), m.to_f64() + allow);
                     if *d <= rat(lo) * rat(lo) {
                         ensure!(
@@ -472,7 +480,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         // 3. intersection
         match e.mesh_intersect(&ma, &pa, &mb, &pb).map_err(|e| format!("{tag}: {e}"))? {
             Some((i, j)) => {
-                let allow = 65.0 * u * mag(&[ta[i], tb[j]]);
+                let allow = allowance(u, mag(&[ta[i], tb[j]]));
                 let d = d2.get(i, j);
                 ensure!(
                     d <= rat(allow) * rat(allow),
