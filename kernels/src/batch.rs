@@ -240,8 +240,8 @@ impl<T: Real, const K: usize> Batch<T, K> {
         self.cap = cap;
     }
 
-    pub(crate) fn src(&self) -> crate::driver::Src<'_, T> {
-        crate::driver::Src::Soa { data: &self.data, cap: self.cap, base: 0, k: K }
+    pub(crate) fn src(&self) -> crate::drv::Src<'_, T> {
+        crate::drv::Src::Soa { data: &self.data, cap: self.cap, base: 0, k: K }
     }
 }
 

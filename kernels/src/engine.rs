@@ -4,7 +4,7 @@
 use std::sync::OnceLock;
 
 use crate::algo::{Params, PenaltyParams};
-use crate::driver::{Job, Sink, Src};
+use crate::drv::{Job, Sink, Src};
 use crate::pose::{points, AsPoint};
 use crate::{Batch, ClosestPoints, Error, Intersection, Interval, Isa, PathCounts, Point, Query, Real};
 
@@ -516,8 +516,7 @@ impl Engine {
         }
         // Pieces of whole chunks, several per thread, so that a thread that finishes early
         // takes work from the others.
-        let piece =
-            (n.div_ceil(4 * self.threads)).div_ceil(crate::driver::CHUNK).max(1) * crate::driver::CHUNK;
+        let piece = (n.div_ceil(4 * self.threads)).div_ceil(crate::drv::CHUNK).max(1) * crate::drv::CHUNK;
         let mut jobs = Vec::with_capacity(n.div_ceil(piece));
         let (a, b, prm, query, widen, exact) = (job.a, job.b, job.prm, job.query, job.widen, job.exact);
         let mut sink = job.sink;

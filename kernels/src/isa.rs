@@ -3,7 +3,7 @@
 
 use std::sync::OnceLock;
 
-use crate::driver::Job;
+use crate::drv::Job;
 use crate::query::{for_each_query, Query};
 
 /// An instruction-set variant. Every variant runs the same algorithms (written once over a lane
@@ -123,7 +123,7 @@ macro_rules! entry_modules {
                     use super::*;
                     #[$attr]
                     pub(in super::super) fn run(k: $tok, job: &mut Job<'_, $t>) {
-                        crate::driver::run::<$l, crate::algo::$m::$k>(k, job)
+                        crate::drv::run::<$l, crate::algo::$m::$k>(k, job)
                     }
                 }
             )*
@@ -163,19 +163,19 @@ macro_rules! run_for {
             match isa {
                 Isa::Scalar => Portable.$run(job),
                 #[cfg(target_arch = "x86_64")]
-                Isa::Sse41 => match crate::arch::x86::Sse41::detect() {
+                Isa::Sse41 => match crate::arch::x86_simd::Sse41::detect() {
                     Some(k) => k.$run(job),
                     None => Portable.$run(job),
                 },
                 #[cfg(all(target_arch = "x86_64", feature = "avx"))]
-                Isa::Avx => match crate::arch::x86::Avx::detect() {
+                Isa::Avx => match crate::arch::x86_simd::Avx::detect() {
                     Some(k) => k.$run(job),
                     None => Portable.$run(job),
                 },
                 #[cfg(all(target_arch = "x86_64", not(feature = "avx")))]
                 Isa::Avx => Portable.$run(job),
                 #[cfg(target_arch = "x86_64")]
-                Isa::Avx2Fma => match crate::arch::x86::Avx2Fma::detect() {
+                Isa::Avx2Fma => match crate::arch::x86_simd::Avx2Fma::detect() {
                     Some(k) => k.$run(job),
                     None => Portable.$run(job),
                 },

@@ -61,7 +61,7 @@
 //! detection made, and every SIMD value carries its token, so no code path runs an instruction
 //! the CPU lacks. The batch plumbing is private to the crate; it cannot be named from outside:
 //! ```compile_fail,E0603
-//! use tridist::driver::Job; // private module
+//! use tridist::drv::Job; // private module
 //! ```
 //! ```compile_fail,E0624
 //! fn reach<T: tridist::Real, J>(job: J) {
@@ -76,10 +76,19 @@
 //! * `glam`, `mint`: their vector types are [`AsPoint`]s.
 #![cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 
+// The module names set how long this crate takes to compile (#17; ARCHITECTURE.md,
+// "Compile-time budget"). LLVM's always-inliner takes the callees of a codegen unit in the
+// unit's order, which rustc sorts by symbol name; inlining callers before their callees
+// (top-down) compiles this crate 1.6x faster than the reverse. Under the default (legacy)
+// mangling a name sorts by its length-prefixed path segments, so the layers are named to sort
+// callers first: `drv` (the batch driver, "3drv") < `algo` ("4algo") < `lanes` ("5lanes") <
+// the vector types' trait impls (`<tridist::arch::x86_simd::F32x4<K> as
+// tridist::lanes::Lanes>`, a segment of 80 or more characters, after "7tridist"). The test
+// `inline_order` below keeps it so.
 mod algo;
 mod arch;
 mod batch;
-mod driver;
+mod drv;
 mod engine;
 mod error;
 #[cfg(feature = "exact")]
@@ -103,3 +112,47 @@ pub use query::Query;
 pub use real::{Precision, Real};
 pub use single::*;
 pub use types::{ClosestPoints, Intersection, Interval, PathCounts, Point, Proximity, Segment, Triangle};
+
+/// Guards the module naming that makes LLVM inline callers before callees (see the comment on
+/// the module list): under legacy mangling, `drv` < `algo` < `lanes` < the vector types' impls.
+#[cfg(test)]
+mod inline_order {
+    /// A path segment as legacy mangling writes it: its length, then the segment.
+    fn seg(s: &str) -> String {
+        format!("{}{}", s.len(), s)
+    }
+
+    /// The crate-level module of a type of this crate.
+    fn module_of<T: ?Sized>() -> String {
+        seg(core::any::type_name::<T>().split("::").nth(1).expect("a crate-local path"))
+    }
+
+    #[test]
+    fn callers_sort_before_callees_under_legacy_mangling() {
+        let drv = module_of::<crate::drv::Job<'static, f32>>();
+        let algo = module_of::<crate::algo::Params<f32>>();
+        let lanes = module_of::<crate::lanes::V3<f32>>();
+        assert!(drv < algo && algo < lanes, "module order {drv}, {algo}, {lanes}");
+        #[cfg(target_arch = "x86_64")]
+        {
+            use crate::arch::x86_simd::*;
+            use core::any::type_name;
+            // after every `_ZN7tridist...` name: a length of 80 to 99 ("8..." or "9..." > "7t")
+            let after = seg("tridist");
+            for (ty, tr) in [
+                (type_name::<F32x4<Sse41>>(), "Lanes"),
+                (type_name::<F64x2<Sse41>>(), "Lanes"),
+                (type_name::<F32x8<Avx2Fma>>(), "Lanes"),
+                (type_name::<F64x4<Avx2Fma>>(), "Lanes"),
+                (type_name::<M32x4<Sse41>>(), "Mask"),
+                (type_name::<M64x2<Sse41>>(), "Mask"),
+                (type_name::<M32x8<Avx2Fma>>(), "Mask"),
+                (type_name::<M64x4<Avx2Fma>>(), "Mask"),
+            ] {
+                let path = ty.split('<').next().expect("a type path").replace("::", "..");
+                let imp = format!("_$LT${path}$LT$K$GT$$u20$as$u20$tridist..lanes..{tr}$GT$");
+                assert!(seg(&imp) > after, "the impl {imp} sorts before the crate's own functions");
+            }
+        }
+    }
+}

@@ -58,7 +58,7 @@ pub(crate) mod sealed {
         /// From raw bits (the low 32 for f32).
         fn from_bits64(b: u64) -> Self;
         /// Runs a batch job on an instruction-set variant (checks availability itself).
-        fn run_job(isa: crate::Isa, job: &mut crate::driver::Job<'_, Self>);
+        fn run_job(isa: crate::Isa, job: &mut crate::drv::Job<'_, Self>);
         /// One pair without a batch (the single queries).
         fn single(
             query: crate::Query,
@@ -66,9 +66,9 @@ pub(crate) mod sealed {
             b: &[[Self; 3]; 3],
             prm: &crate::algo::Params<Self>,
             exact: bool,
-        ) -> crate::driver::Lane<Self>;
+        ) -> crate::drv::Lane<Self>;
         /// Runs a batch job with a capability token (escalation sub-jobs).
-        fn run_with<K: crate::isa::Token>(k: K, job: &mut crate::driver::Job<'_, Self>);
+        fn run_with<K: crate::isa::Token>(k: K, job: &mut crate::drv::Job<'_, Self>);
         /// The next value toward -inf (toward +inf when `up`); identity on inf and NaN.
         fn step(self, up: bool) -> Self {
             let b = self.bits();
@@ -182,7 +182,7 @@ macro_rules! impl_real {
             fn from_bits64(b: u64) -> Self {
                 <$t>::from_bits(b as $bits)
             }
-            fn run_job(isa: crate::Isa, job: &mut crate::driver::Job<'_, Self>) {
+            fn run_job(isa: crate::Isa, job: &mut crate::drv::Job<'_, Self>) {
                 crate::isa::$run(isa, job)
             }
             fn single(
@@ -191,10 +191,10 @@ macro_rules! impl_real {
                 b: &[[Self; 3]; 3],
                 prm: &crate::algo::Params<Self>,
                 exact: bool,
-            ) -> crate::driver::Lane<Self> {
-                crate::driver::single::<$t>(query, a, b, prm, exact)
+            ) -> crate::drv::Lane<Self> {
+                crate::drv::single::<$t>(query, a, b, prm, exact)
             }
-            fn run_with<K: crate::isa::Token>(k: K, job: &mut crate::driver::Job<'_, Self>) {
+            fn run_with<K: crate::isa::Token>(k: K, job: &mut crate::drv::Job<'_, Self>) {
                 k.$tokrun(job)
             }
         }

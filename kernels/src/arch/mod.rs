@@ -3,4 +3,4 @@
 //! Nothing here knows any geometry.
 
 #[cfg(target_arch = "x86_64")]
-pub(crate) mod x86;
+pub(crate) mod x86_simd;

@@ -9,10 +9,14 @@
 //! below is justified by the token of the value it operates on. The entry points enable the
 //! features so that everything inlines into single instructions; an accidental call from
 //! elsewhere would be slow, never undefined.
+//!
+//! (The module's name is long enough that its trait impls' legacy-mangled names sort after every
+//! other function of the crate, so LLVM inlines these leaves last, top-down: see the module list
+//! in `lib.rs`.)
 
 use core::arch::x86_64::*;
 
-use crate::driver::Job;
+use crate::drv::Job;
 use crate::isa::{entry_modules, Isa, Token};
 use crate::lanes::{Lanes, Mask};
 use crate::query::{for_each_query, Query};

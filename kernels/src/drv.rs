@@ -1,4 +1,6 @@
-//! The batch driver: one pipeline for every query.
+//! The batch driver: one pipeline for every query. (Named `drv`, not `driver`, so that its
+//! functions sort before `algo`'s and LLVM inlines them top-down: see the module list in
+//! `lib.rs`.)
 //!
 //! A batch is processed in chunks of [`CHUNK`] pairs. Stage 0 of the query's kernel runs on
 //! every pair, a vector of lanes at a time (SoA columns are loaded directly; AoS slices and a
