@@ -979,6 +979,9 @@ impl<T: Real> Search<T> for FirstHit {
         let r = reach::<T>(&self.tol, magnitude(bx, by), 0.0);
         r * r
     }
+    fn eager(&self) -> bool {
+        true
+    }
     fn flush(&mut self, e: &Engine, pend: &Pending<T>) -> Result<bool, Error> {
         self.v.clear();
         self.v.resize(pend.ids.len(), Intersection::Invalid);
