@@ -157,6 +157,134 @@ fn verdict(h: Option<bool>) -> &'static str {
     }
 }
 
+/// The gap of the near-contact placements (0.05 % of the scene's size).
+const NEAR_GAP: f64 = 1e-3;
+
+/// One near-contact placement: its distance (tridist f64) and the times of tridist (f32, f64)
+/// and FCL for the distance and the intersection test.
+struct NearRow {
+    d: f64,
+    t_d32: f64,
+    t_d64: f64,
+    fcl_d: f64,
+    fcl_t_d: f64,
+    hit: bool,
+    t_i32: f64,
+    t_i64: f64,
+    fcl_hit: Option<bool>,
+    fcl_t_i: f64,
+}
+
+/// The fandisk rotated about a random axis by a random angle and moved along a random
+/// direction until its distance to the armadillo is [`NEAR_GAP`] (bisection on the
+/// translation with tridist f64: the pose found is the far end of the last bracket, so its
+/// distance is at least the gap), one placement per seed `seed ^ k`.
+fn near_rows(
+    a: &tridist_scenes::mesh::Mesh,
+    b: &tridist_scenes::mesh::Mesh,
+    budget: Duration,
+    placements: usize,
+    seed: u64,
+) -> Result<Vec<NearRow>, String> {
+    fn mesh<T: Real>(m: &tridist_scenes::mesh::Mesh) -> Result<Mesh<T>, String> {
+        Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone())
+            .map_err(|e| e.to_string())
+    }
+    let (a32, b32, a64, b64) = (mesh::<f32>(a)?, mesh::<f32>(b)?, mesh::<f64>(a)?, mesh::<f64>(b)?);
+    let fcl = FclMesh::new(&a.vertices, &a.triangles).zip(FclMesh::new(&b.vertices, &b.triangles));
+    let e = Engine::auto();
+    let (id32, id64) = (Pose::<f32>::identity(), Pose::<f64>::identity());
+    let dist = |p: &Pose<f64>| -> Result<f64, String> {
+        let r = e.mesh_distance(&a64, &id64, &b64, p).map_err(|x| x.to_string())?;
+        Ok(r.map_or(f64::INFINITY, |r| r.sqdist.sqrt()))
+    };
+    let mut out = Vec::new();
+    for k in 0..placements {
+        let mut rng = tridist_scenes::rng::Rng::new(seed ^ 0x6e65_6172 ^ k as u64);
+        let (axis, angle, dir) = (rng.dir(), rng.range(0.0, std::f64::consts::TAU), rng.dir());
+        let at = |t: f64| Pose::from_axis_angle(axis, angle, dir.map(|c| c * t));
+        // both meshes lie in [-1, 1]^3: 4 units apart they are separated in any direction
+        let (mut lo, mut hi) = (0.0, 4.0);
+        for _ in 0..48 {
+            let mid = 0.5 * (lo + hi);
+            if dist(&at(mid))? < NEAR_GAP {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let pose64 = at(hi);
+        let pose32 = Pose {
+            rotation: pose64.rotation.map(|r| r.map(|x| x as f32)),
+            translation: pose64.translation.map(|x| x as f32),
+        };
+        let d = dist(&pose64)?;
+        let t_d32 = median_time(|| drop(e.mesh_distance(&a32, &id32, &b32, &pose32)), budget);
+        let t_d64 = median_time(|| drop(e.mesh_distance(&a64, &id64, &b64, &pose64)), budget);
+        let mut hit = false;
+        let t_i32 = median_time(|| drop(e.mesh_intersect(&a32, &id32, &b32, &pose32)), budget);
+        let t_i64 =
+            median_time(|| hit = matches!(e.mesh_intersect(&a64, &id64, &b64, &pose64), Ok(Some(_))), budget);
+        let (mut fcl_d, mut fcl_t_d, mut fcl_hit, mut fcl_t_i) = (f64::NAN, f64::NAN, None, f64::NAN);
+        if let Some((fa, fb)) = &fcl {
+            fcl_t_d = median_time(|| fcl_d = fa.distance(&id64, fb, &pose64), budget);
+            fcl_t_i = median_time(|| fcl_hit = Some(fa.collide(&id64, fb, &pose64)), budget);
+        }
+        out.push(NearRow { d, t_d32, t_d64, fcl_d, fcl_t_d, hit, t_i32, t_i64, fcl_hit, fcl_t_i });
+    }
+    Ok(out)
+}
+
+/// The near-contact section of MESH.md.
+fn near_md(t: &mut String, rows: &[NearRow]) {
+    let _ = writeln!(
+        t,
+        "## Near contact at random orientations
+
+The fandisk rotated about a random axis by a random angle and moved along a random direction until its distance to the armadillo is {NEAR_GAP} (0.05 % of the scene's size; bisection on the translation with tridist f64), one placement per row, the same meshes and timing as above.
+
+| placement | distance | tridist f32 ms | tridist f64 ms | FCL ms | FCL / tridist f32 | FCL / tridist f64 | intersect (tridist, FCL) | tridist f32 ms | tridist f64 ms | FCL ms | agreement |\n|---|---|---|---|---|---|---|---|---|---|---|---|"
+    );
+    let mut sum = [0.0; 6];
+    for (k, r) in rows.iter().enumerate() {
+        let diff = if r.fcl_d.is_nan() { 0.0 } else { (r.d - r.fcl_d).abs() };
+        let agree = diff <= 1e-8 && r.fcl_hit.is_none_or(|h| h == r.hit);
+        for (x, v) in sum.iter_mut().zip([r.t_d32, r.t_d64, r.fcl_t_d, r.t_i32, r.t_i64, r.fcl_t_i]) {
+            *x += v;
+        }
+        let _ = writeln!(
+            t,
+            "| {k} | {:.6e} | {} | {} | {} | {} | {} | {}, {} | {} | {} | {} | {} |",
+            r.d,
+            ms(r.t_d32),
+            ms(r.t_d64),
+            ms(r.fcl_t_d),
+            ratio(r.fcl_t_d / r.t_d32, 2),
+            ratio(r.fcl_t_d / r.t_d64, 2),
+            if r.hit { "yes" } else { "no" },
+            verdict(r.fcl_hit),
+            ms(r.t_i32),
+            ms(r.t_i64),
+            ms(r.fcl_t_i),
+            if agree { "ok".to_string() } else { format!("**differ by {diff:.1e}**") }
+        );
+    }
+    let n = rows.len().max(1) as f64;
+    let m = sum.map(|x| x / n);
+    let _ = writeln!(
+        t,
+        "\nMean time per placement: distance tridist f32 {} ms, f64 {} ms, FCL {} ms (FCL / tridist of the means **{} (f32)**, **{} (f64)**); intersect tridist f32 {} ms, f64 {} ms, FCL {} ms.\n",
+        ms(m[0]),
+        ms(m[1]),
+        ms(m[2]),
+        ratio(m[2] / m[0], 2),
+        ratio(m[2] / m[1], 2),
+        ms(m[3]),
+        ms(m[4]),
+        ms(m[5])
+    );
+}
+
 /// MESH.md, and its summary line for the README's results.
 pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
     let (a, b) = (normalised("armadillo.off")?, normalised("fandisk_large.off")?);
@@ -239,7 +367,9 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         );
         means.push((sum_t / n, sum_fcl / n, sum_ti / n, sum_fcl_i / n, parry_ratio / n));
     }
-    let _ = writeln!(t, "Contacts on two threads: `Engine::threads(2)`, the traversal split into pieces walked in parallel (same contacts).\n\nNot measured yet (issue #15): 4- and 8-wide trees, near-contact placements at random orientations.");
+    let _ = writeln!(t, "Contacts on two threads: `Engine::threads(2)`, the traversal split into pieces walked in parallel (same contacts).\n");
+    near_md(&mut t, &near_rows(&a, &b, s.budget, s.mesh_poses, seed)?);
+    let _ = writeln!(t, "Not measured yet (issue #15): 4- and 8-wide trees.");
     let (m32, m64) = (means[0], means[1]);
     let summary = format!(
         "- Mesh distance with closest points, Armadillo vs fandisk ({} poses through each other), one thread, mean per pose: tridist f32 {} ms, f64 {} ms; FCL (OBBRSS, double) {} ms: **{} (f32)** and **{} (f64)** FCL's speed; parry3d {:.1}x slower than tridist f32. Collision: tridist {} ms, FCL {} ms ([reports/MESH.md](reports/MESH.md)).",

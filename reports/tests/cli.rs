@@ -265,6 +265,25 @@ fn a_small_report_writes_parseable_files() {
             assert_eq!(cells[15], "ok", "{r}");
         }
     }
+    // near contact: one row per placement (the poses asked for), each placed at the gap, apart,
+    // the libraries agreeing
+    let near: Vec<&str> = mesh
+        .split("## Near contact at random orientations")
+        .nth(1)
+        .expect("the near-contact section")
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| placement"))
+        .collect();
+    assert_eq!(near.len(), 2, "{mesh}");
+    for r in near {
+        let cells: Vec<&str> = r.split('|').map(str::trim).collect();
+        let d: f64 = cells[2].parse().unwrap();
+        assert!((0.999_999e-3..=1.000_001e-3).contains(&d), "{r}");
+        assert!(cells[3].parse::<f64>().unwrap() > 0.0 && cells[4].parse::<f64>().unwrap() > 0.0, "{r}");
+        assert_eq!(cells[5].parse::<f64>().is_ok_and(|t| t > 0.0), fcl, "{r}"); // FCL's time
+        assert_eq!(cells[8], if fcl { "no, no" } else { "no, -" }, "{r}");
+        assert_eq!(cells[12], "ok", "{r}");
+    }
     let mut r = csv::Reader::from_path(dir.join("throughput.csv")).unwrap();
     assert_eq!(r.headers().unwrap().len(), 15);
     let rows: Vec<csv::StringRecord> = r.records().map(|x| x.unwrap()).collect();
