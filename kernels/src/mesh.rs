@@ -812,7 +812,10 @@ fn walk<T: Real, S: Search<T>>(
             let lim = s.limit(&sa.bounds(x).0, &sb.bounds(y).0);
             if gap > lim {
                 if best_first {
-                    // every pair left is at least as far (the limit is the same for all)
+                    // Only the pair just taken from the heap can be beyond the limit here (a
+                    // dive's children passed the same limit in `children`, and the limit
+                    // changes only at a flush, which ends the dive): it is the nearest left,
+                    // so every pair left is at least as far (the limit is the same for all).
                     break 'visits;
                 }
                 continue 'visits;
