@@ -34,18 +34,29 @@ struct Row {
     fcl_t_i: f64,
 }
 
+/// A scene mesh as tridist's, rounded to `T`.
+fn mesh<T: Real>(m: &tridist_scenes::mesh::Mesh) -> Result<Mesh<T>, String> {
+    Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone())
+        .map_err(|e| e.to_string())
+}
+
+/// The agreement cell: "ok", or how far the libraries' distances differ.
+fn agreement(agree: bool, diff: f64) -> String {
+    if agree {
+        "ok".to_string()
+    } else {
+        format!("**differ by {diff:.1e}**")
+    }
+}
+
 fn rows<T: Peer + Real>(
     a: &tridist_scenes::mesh::Mesh,
     b: &tridist_scenes::mesh::Mesh,
     budget: Duration,
     poses: usize,
 ) -> Result<Built, String> {
-    let mesh = |m: &tridist_scenes::mesh::Mesh| {
-        Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone())
-            .map_err(|e| e.to_string())
-    };
     let t0 = Instant::now();
-    let (ma, mb) = (mesh(a)?, mesh(b)?);
+    let (ma, mb) = (mesh::<T>(a)?, mesh::<T>(b)?);
     let build = t0.elapsed().as_secs_f64();
     let t0 = Instant::now();
     let pa = T::trimesh(&a.vertices, &a.triangles).ok_or("parry refused the first mesh")?;
@@ -186,10 +197,6 @@ fn near_rows(
     placements: usize,
     seed: u64,
 ) -> Result<Vec<NearRow>, String> {
-    fn mesh<T: Real>(m: &tridist_scenes::mesh::Mesh) -> Result<Mesh<T>, String> {
-        Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone())
-            .map_err(|e| e.to_string())
-    }
     let (a32, b32, a64, b64) = (mesh::<f32>(a)?, mesh::<f32>(b)?, mesh::<f64>(a)?, mesh::<f64>(b)?);
     let fcl = FclMesh::new(&a.vertices, &a.triangles).zip(FclMesh::new(&b.vertices, &b.triangles));
     let e = Engine::auto();
@@ -266,7 +273,7 @@ The fandisk rotated about a random axis by a random angle and moved along a rand
             ms(r.t_i32),
             ms(r.t_i64),
             ms(r.fcl_t_i),
-            if agree { "ok".to_string() } else { format!("**differ by {diff:.1e}**") }
+            agreement(agree, diff)
         );
     }
     let n = rows.len().max(1) as f64;
@@ -350,7 +357,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
                 r.contacts,
                 ms(r.t_c),
                 ms(r.t_c2),
-                if agree { "ok".to_string() } else { format!("**differ by {diff:.1e}**") }
+                agreement(agree, diff)
             );
         }
         let n = m.rows.len() as f64;
