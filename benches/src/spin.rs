@@ -1,5 +1,5 @@
 //! Runs one query on one workload for a few seconds (for `perf record`):
-//! `cargo run --release -p tridist-benches --bin spin -- tri_tri random f32 avx2fma 5`
+//! `cargo run --release -p tridist-benches --bin spin -- tri_tri random f32 avx2fma 5 [pairs]`
 use tridist::{Engine, Intersection, Isa, Query};
 use tridist_scenes::workload::Workload;
 use tridist_scenes::{families, Family};
@@ -10,12 +10,14 @@ fn main() {
     let arm = || tridist_scenes::mesh::carried("armadillo.off").expect("armadillo");
     let isa = Isa::parse(&a[3]).unwrap_or(Isa::Scalar);
     let secs: f64 = a[4].parse().unwrap_or(5.0);
+    // optional: the number of pairs (default 4096)
+    let count: usize = a.get(5).and_then(|x| x.parse().ok()).unwrap_or(4096);
     // a family name, or `arm_nearby` (nearby pairs of the Armadillo mesh)
     let pairs: Vec<_> = if a[1] == "arm_nearby" {
-        tridist_scenes::protocol::nearby_pairs(&arm(), 3.0, 4096, 7)
+        tridist_scenes::protocol::nearby_pairs(&arm(), 3.0, count, 7)
     } else {
         let fam = Family::parse(&a[1]).expect("family");
-        families::generate::<f64>(fam, 7, 4096).into_iter().map(|c| (c.a, c.b)).collect()
+        families::generate::<f64>(fam, 7, count).into_iter().map(|c| (c.a, c.b)).collect()
     };
     let e = Engine::new(isa).expect("available");
     let t = std::time::Instant::now();

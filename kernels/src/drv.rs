@@ -80,25 +80,47 @@ impl<'a, T: Real> Src<'a, T> {
         out
     }
 
-    /// The primitives `i .. i + lanes` (`lanes <= L::N`; lanes beyond repeat the last one).
+    /// [`Src::load`] with the arity `k` (a kernel's constant) turned into a const parameter.
     #[inline(always)]
-    fn load<L: Lanes<S = T>>(&self, kk: L::K, i: usize, lanes: usize) -> [V3<L>; 3] {
+    fn load_k<L: Lanes<S = T>>(&self, k: usize, kk: L::K, i: usize, lanes: usize) -> [V3<L>; 3] {
+        debug_assert_eq!(k, self.k());
+        match k {
+            1 => self.load::<L, 1>(kk, i, lanes),
+            2 => self.load::<L, 2>(kk, i, lanes),
+            _ => self.load::<L, 3>(kk, i, lanes),
+        }
+    }
+
+    /// The primitives `i .. i + lanes` (`lanes <= L::N`; lanes beyond repeat the last one),
+    /// `K` points each (the kernel's arity, a constant, so the loops unroll and the layout is
+    /// matched once, not per coordinate).
+    #[inline(always)]
+    fn load<L: Lanes<S = T>, const K: usize>(&self, kk: L::K, i: usize, lanes: usize) -> [V3<L>; 3] {
         let mut coord = [L::splat(kk, T::ZERO); 9];
-        for (j, c) in coord.iter_mut().enumerate().take(3 * self.k()) {
-            *c = match *self {
-                // Columns are padded to a multiple of 8 with copies of the last primitive.
-                Src::Soa { data, cap, base, .. } => L::load(kk, &data[j * cap + base + i..]),
-                Src::One { flat, .. } => L::splat(kk, flat[j]),
-                Src::Aos { .. } => {
+        match *self {
+            // Columns are padded to a multiple of 8 with copies of the last primitive.
+            Src::Soa { data, cap, base, .. } => {
+                let d = &data[base + i..];
+                for (j, c) in coord.iter_mut().enumerate().take(3 * K) {
+                    *c = L::load(kk, &d[j * cap..]);
+                }
+            }
+            Src::One { flat, .. } => {
+                for (j, c) in coord.iter_mut().enumerate().take(3 * K) {
+                    *c = L::splat(kk, flat[j]);
+                }
+            }
+            Src::Aos { flat, .. } => {
+                for (j, c) in coord.iter_mut().enumerate().take(3 * K) {
                     let mut buf = [T::ZERO; 8];
                     for (l, slot) in buf.iter_mut().enumerate().take(L::N) {
-                        *slot = self.at(i + l.min(lanes - 1), j);
+                        *slot = flat[(i + l.min(lanes - 1)) * 3 * K + j];
                     }
-                    L::load(kk, &buf)
+                    *c = L::load(kk, &buf);
                 }
-            };
+            }
         }
-        to_points(&coord, self.k())
+        to_points(&coord, K)
     }
 
     /// The primitives `idx[0..]` (at most `L::N`; lanes beyond repeat the last one).
@@ -326,7 +348,7 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
                 for (l, id) in ids.iter_mut().enumerate().take(lanes) {
                     *id = (i + l) as u32;
                 }
-                (job.a.load::<L>(kk, i, lanes), job.b.load::<L>(kk, i, lanes), lanes)
+                (job.a.load_k::<L>(K::KA, kk, i, lanes), job.b.load_k::<L>(K::KB, kk, i, lanes), lanes)
             }
         };
         let o = K::stage::<L, ST>(&a, &b, &job.prm);

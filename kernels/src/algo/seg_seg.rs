@@ -46,30 +46,6 @@ pub(crate) fn seg_seg<L: Lanes>(p1: V3<L>, d1: V3<L>, p2: V3<L>, d2: V3<L>) -> R
     Res { d: p.sub(q).norm2(), p, q }
 }
 
-/// The closest-point parameters `(s, t)` of segments `p1 + s*d1` and `p2 + t*d2` as
-/// [`seg_seg`] computes them, with the reciprocals of the squared edge lengths given (the fast
-/// stage shares them over its nine edge pairs).
-#[inline(always)]
-pub(crate) fn seg_seg_pre<L: Lanes>(
-    p1: V3<L>,
-    d1: V3<L>,
-    inv_a: L,
-    p2: V3<L>,
-    d2: V3<L>,
-    inv_e: L,
-) -> (L, L) {
-    let r = p1.sub(p2);
-    let b = d1.dot(d2);
-    let cc = d1.dot(r);
-    let f = d2.dot(r);
-    let n = d1.cross_accurate(d2);
-    let m = d2.cross_accurate(r);
-    let s0 = n.dot(m).safe_div(n.norm2()).clamp01();
-    let t = b.mul_add(s0, f).mul(inv_e).clamp01();
-    let s = b.mul_add(t, cc.neg()).mul(inv_a).clamp01();
-    (s, t)
-}
-
 /// Closest point to `x` on segment `a + t*d`.
 #[inline(always)]
 pub(crate) fn point_segment<L: Lanes>(x: V3<L>, a: V3<L>, d: V3<L>) -> V3<L> {
