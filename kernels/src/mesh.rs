@@ -198,32 +198,43 @@ impl<T: Real> Mesh<T> {
         if n == 0 {
             return;
         }
-        let tris: Vec<[[f64; 3]; 3]> =
-            (0..n).map(|i| self.triangle(i).map(|v| v.map(Real::to_f64))).collect();
-        let boxes: Vec<Aabb> = tris.iter().map(tri_box).collect();
-        let centroid = |i: u32| {
-            let (lo, hi) = boxes[i as usize];
-            [0, 1, 2].map(|k| 0.5 * lo[k] + 0.5 * hi[k])
-        };
-        self.order = (0..n as u32).collect();
+        let verts: Vec<[f64; 3]> = self.vertices.iter().map(|v| v.map(Real::to_f64)).collect();
+        // What the build reads of a triangle, in one place, moved with it by the splits (so
+        // each node's pass reads its triangles in order, not scattered over four arrays).
+        let mut items: Vec<Item> = (0..n)
+            .map(|i| {
+                let (lo, hi) = tri_box(&self.triangle(i));
+                let c = [0, 1, 2].map(|k| 0.5 * lo[k] + 0.5 * hi[k]);
+                Item { lo, hi, c, v: self.triangles[i], tri: i as u32 }
+            })
+            .collect();
         self.nodes.push(Node { lo: [0.0; 3], hi: [0.0; 3], first: 0, count: 0 });
-        // (node, range of `order`) still to be built
+        // The oriented boxes are fitted to each node's distinct vertices (a vertex is shared by
+        // about six triangles): `seen[v]` is the last node that took vertex `v`.
+        let mut seen = vec![u32::MAX; verts.len()];
+        let mut pts: Vec<[f64; 3]> = Vec::new();
+        // (node, range of `items`) still to be built
         let mut todo = vec![(0usize, 0usize, n)];
         while let Some((id, s, e)) = todo.pop() {
             let mut lo = [f64::INFINITY; 3];
             let mut hi = [f64::NEG_INFINITY; 3];
             let (mut clo, mut chi) = (lo, hi);
-            for &t in &self.order[s..e] {
-                let (a, b) = boxes[t as usize];
-                let c = centroid(t);
+            pts.clear();
+            for it in &items[s..e] {
                 for k in 0..3 {
-                    lo[k] = lo[k].min(a[k]);
-                    hi[k] = hi[k].max(b[k]);
-                    clo[k] = clo[k].min(c[k]);
-                    chi[k] = chi[k].max(c[k]);
+                    lo[k] = lo[k].min(it.lo[k]);
+                    hi[k] = hi[k].max(it.hi[k]);
+                    clo[k] = clo[k].min(it.c[k]);
+                    chi[k] = chi[k].max(it.c[k]);
+                }
+                for &v in &it.v {
+                    if seen[v as usize] != id as u32 {
+                        seen[v as usize] = id as u32;
+                        pts.push(verts[v as usize]);
+                    }
                 }
             }
-            let obb = Obb::fit(self.order[s..e].iter().flat_map(|&t| tris[t as usize]));
+            let obb = Obb::fit(&pts);
             self.obbs.resize(self.obbs.len().max(id + 1), obb);
             self.obbs[id] = obb;
             if e - s <= LEAF {
@@ -232,8 +243,7 @@ impl<T: Real> Mesh<T> {
             }
             let axis = (0..3).max_by(|&a, &b| (chi[a] - clo[a]).total_cmp(&(chi[b] - clo[b]))).unwrap_or(0);
             let mid = s + (e - s) / 2;
-            self.order[s..e]
-                .select_nth_unstable_by(mid - s, |&a, &b| centroid(a)[axis].total_cmp(&centroid(b)[axis]));
+            items[s..e].select_nth_unstable_by(mid - s, |a, b| a.c[axis].total_cmp(&b.c[axis]));
             let left = self.nodes.len();
             self.nodes.push(Node { lo: [0.0; 3], hi: [0.0; 3], first: 0, count: 0 });
             self.nodes.push(Node { lo: [0.0; 3], hi: [0.0; 3], first: 0, count: 0 });
@@ -241,6 +251,7 @@ impl<T: Real> Mesh<T> {
             todo.push((left, s, mid));
             todo.push((left + 1, mid, e));
         }
+        self.order = items.iter().map(|it| it.tri).collect();
     }
 
     /// Node `i`'s box moved by `pose` (see [`Moved`]).
@@ -265,6 +276,15 @@ impl<T: Real> Mesh<T> {
         }
         (lo, hi)
     }
+}
+
+/// A triangle as the tree build reads it: its box, the box's centre, its vertices and number.
+struct Item {
+    lo: [f64; 3],
+    hi: [f64; 3],
+    c: [f64; 3],
+    v: [u32; 3],
+    tri: u32,
 }
 
 /// An oriented box in the mesh frame, as a container that f64 rounding cannot break: the
@@ -297,8 +317,10 @@ fn principal_axes(mut a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
     for _ in 0..12 {
         let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
         let diag = a[0][0].abs() + a[1][1].abs() + a[2][2].abs();
-        // converged (or NaN: the caller falls back to the identity)
-        if off <= 1e-15 * diag || off.is_nan() {
+        // converged (or NaN: the caller falls back to the identity); axes good to about the
+        // square root of this are as good a box as exact ones (the rotations keep them
+        // orthonormal whenever the loop stops)
+        if off <= 1e-9 * diag || off.is_nan() {
             break;
         }
         for (p, q) in [(0, 1), (0, 2), (1, 2)] {
@@ -338,29 +360,27 @@ fn principal_axes(mut a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
 
 impl Obb {
     /// The box of `points` (at least one), certified as the type says.
-    fn fit(points: impl Iterator<Item = [f64; 3]> + Clone) -> Obb {
-        let (mut n, mut mean) = (0.0, [0.0; 3]);
-        for p in points.clone() {
+    fn fit(points: &[[f64; 3]]) -> Obb {
+        // Mean and covariance in one pass, about the first point (only the axes depend on
+        // them, and only their quality: the box is certified below whatever they are).
+        let o = points[0];
+        let (mut n, mut sum, mut sq) = (0.0, [0.0; 3], [[0.0; 3]; 3]);
+        for p in points {
+            let d = [p[0] - o[0], p[1] - o[1], p[2] - o[2]];
             n += 1.0;
-            for k in 0..3 {
-                mean[k] += p[k];
-            }
-        }
-        let mean = mean.map(|m| m / n);
-        let mut cov = [[0.0; 3]; 3];
-        for p in points.clone() {
-            let d = [0, 1, 2].map(|k| p[k] - mean[k]);
             for i in 0..3 {
+                sum[i] += d[i];
                 for j in 0..3 {
-                    cov[i][j] += d[i] * d[j];
+                    sq[i][j] += d[i] * d[j];
                 }
             }
         }
+        let cov = [0, 1, 2].map(|i| [0, 1, 2].map(|j| sq[i][j] - sum[i] * sum[j] / n));
         let e = principal_axes(cov);
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for p in points.clone() {
+        for p in points {
             for i in 0..3 {
-                let s = dot(&e[i], &p);
+                let s = dot(&e[i], p);
                 lo[i] = lo[i].min(s);
                 hi[i] = hi[i].max(s);
             }
@@ -370,15 +390,19 @@ impl Obb {
         // the certificate: |s_i| and |r| as computed, plus their computation's rounding (a
         // few operations on numbers of magnitude at most `m`: 64 eps m is far above it)
         let (mut h, mut rho, mut m) = ([0.0f64; 3], 0.0f64, 0.0f64);
+        // (written out: array `map`s here were left as calls, a tenth of the build)
+        let resid = |d: &[f64; 3], sv: &[f64; 3], k: usize| {
+            d[k] - sv[0] * e[0][k] - sv[1] * e[1][k] - sv[2] * e[2][k]
+        };
         for p in points {
-            let d = [0, 1, 2].map(|k| p[k] - c[k]);
-            let sv = [0, 1, 2].map(|i| dot(&e[i], &d));
-            let r = [0, 1, 2].map(|k| d[k] - sv[0] * e[0][k] - sv[1] * e[1][k] - sv[2] * e[2][k]);
+            let d = [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
+            let sv = [dot(&e[0], &d), dot(&e[1], &d), dot(&e[2], &d)];
+            let r = [resid(&d, &sv, 0), resid(&d, &sv, 1), resid(&d, &sv, 2)];
             for i in 0..3 {
                 h[i] = h[i].max(sv[i].abs());
             }
             rho = rho.max(norm1(&r));
-            m = m.max(norm1(&p) + norm1(&c) + norm1(&sv));
+            m = m.max(norm1(p) + norm1(&c) + norm1(&sv));
         }
         let slack = 64.0 * f64::EPSILON * m;
         Obb { c, e, h: h.map(|x| x + slack), rho: rho + slack }
