@@ -244,29 +244,40 @@ impl<T: Real> Lane<T> {
 }
 
 /// Indices of the pairs of a chunk still open after a stage, with the answer they had (squared
-/// distance and closest points, for the tight re-certification).
+/// distance and closest points, for the tight re-certification). Empty vectors until a pair is
+/// open (rare): a batch of a few pairs, as a mesh query's leaves make, would otherwise spend
+/// more on clearing fixed buffers than on its kernels.
 struct Pending<T> {
-    idx: [u32; CHUNK],
-    ans: [[T; 7]; CHUNK],
-    len: usize,
+    idx: Vec<u32>,
+    ans: Vec<[T; 7]>,
 }
 
 impl<T: Real> Pending<T> {
     fn new() -> Self {
-        Pending { idx: [0; CHUNK], ans: [[T::ZERO; 7]; CHUNK], len: 0 }
+        Pending { idx: Vec::new(), ans: Vec::new() }
+    }
+    fn len(&self) -> usize {
+        self.idx.len()
+    }
+    fn is_empty(&self) -> bool {
+        self.idx.is_empty()
+    }
+    fn clear(&mut self) {
+        self.idx.clear();
+        self.ans.clear();
     }
     #[inline(always)]
     fn push(&mut self, i: usize) {
-        self.idx[self.len] = i as u32;
-        self.len += 1;
+        self.idx.push(i as u32);
+        self.ans.push([T::ZERO; 7]);
     }
     #[inline(always)]
     fn push_answer(&mut self, i: usize, l: &Lane<T>) {
-        self.ans[self.len] = [l.d, l.p[0], l.p[1], l.p[2], l.q[0], l.q[1], l.q[2]];
-        self.push(i);
+        self.idx.push(i as u32);
+        self.ans.push([l.d, l.p[0], l.p[1], l.p[2], l.q[0], l.q[1], l.q[2]]);
     }
     fn as_slice(&self) -> &[u32] {
-        &self.idx[..self.len]
+        &self.idx
     }
 }
 
@@ -298,21 +309,21 @@ pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
         job.counts.pairs += (end - start) as u64;
         if K::NEXT == Some(Query::TriTri) {
             // within-margin and intersection: decided by their own cheap test
-            job.counts.prefiltered += (end - start - open.len) as u64;
+            job.counts.prefiltered += (end - start - open.len()) as u64;
         }
-        if K::RECERT && open.len > 0 {
-            job.counts.recertified += open.len as u64;
+        if K::RECERT && !open.is_empty() {
+            job.counts.recertified += open.len() as u64;
             let mut still = Pending::new();
             recert::<L, K>(kk, job, &open, &mut still);
             open = still;
         }
-        if K::STAGES > 1 && open.len > 0 {
-            job.counts.compacted += open.len as u64;
+        if K::STAGES > 1 && !open.is_empty() {
+            job.counts.compacted += open.len() as u64;
             let mut still = Pending::new();
             pass::<L, K, 1>(kk, job, 0, 0, Some(open.as_slice()), &mut still);
             open = still;
         }
-        if open.len > 0 {
+        if !open.is_empty() {
             escalate(kk, job, K::NEXT, K::WIDEN, &mut open);
         }
         start = end;
@@ -447,17 +458,17 @@ fn escalate<T: Real, Tk: Token>(
     open: &mut Pending<T>,
 ) {
     if let Some(next) = next {
-        job.counts.delegated += open.len as u64;
+        job.counts.delegated += open.len() as u64;
         rerun::<T, T, Tk>(tk, job, next, job.widen, job.exact, open);
     } else if widen && job.widen && T::PRECISION == Precision::F32 {
-        job.counts.widened += open.len as u64;
+        job.counts.widened += open.len() as u64;
         let q = job.query;
         rerun::<T, f64, Tk>(tk, job, q, false, false, open);
     }
-    if job.exact && open.len > 0 {
+    if job.exact && !open.is_empty() {
         exact(job, open);
     }
-    job.counts.uncertified += open.len as u64;
+    job.counts.uncertified += open.len() as u64;
 }
 
 /// Reruns the `open` pairs of `job` as a sub-job of `query` in precision `W` (gathered into
@@ -471,7 +482,7 @@ fn rerun<T: Real, W: Real, Tk: Token>(
     exact: bool,
     open: &mut Pending<T>,
 ) {
-    let n = open.len;
+    let n = open.len();
     let (ka, kb) = (job.a.k(), job.b.k());
     let mut fa = Vec::with_capacity(n * 3 * ka);
     let mut fb = Vec::with_capacity(n * 3 * kb);
@@ -513,7 +524,7 @@ fn rerun<T: Real, W: Real, Tk: Token>(
     job.counts.widened += c.widened;
     job.counts.exact += c.exact;
     let ids: Vec<u32> = open.as_slice().to_vec();
-    open.len = 0;
+    open.clear();
     let cv = |x: W| T::from_f64(x.to_f64());
     let cv3 = |x: Point<W>| x.map(cv);
     for (m, &i) in ids.iter().enumerate() {
@@ -605,7 +616,7 @@ fn exact<T: Real>(job: &mut Job<'_, T>, open: &mut Pending<T>) {
         job.sink.put(i as usize, &lane);
         job.counts.exact += 1;
     }
-    open.len = 0;
+    open.clear();
 }
 
 #[cfg(not(feature = "exact"))]

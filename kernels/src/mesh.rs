@@ -257,8 +257,10 @@ impl<T: Real> Mesh<T> {
     /// Node `i`'s box moved by `pose` (see [`Moved`]).
     fn moved_box(&self, i: usize, pose: &Moved) -> ([f64; 3], [f64; 3]) {
         let n = &self.nodes[i];
-        let c = [0, 1, 2].map(|k| 0.5 * n.lo[k] + 0.5 * n.hi[k]);
-        let h = [0, 1, 2].map(|k| 0.5 * n.hi[k] - 0.5 * n.lo[k]);
+        let (mut c, mut h) = ([0.0; 3], [0.0; 3]);
+        for k in 0..3 {
+            (c[k], h[k]) = (0.5 * n.lo[k] + 0.5 * n.hi[k], 0.5 * n.hi[k] - 0.5 * n.lo[k]);
+        }
         let mut lo = [0.0; 3];
         let mut hi = [0.0; 3];
         for r in 0..3 {
@@ -425,11 +427,29 @@ struct MovedObb {
 /// boxes apart along a diagonal), less the balls and every rounding.
 fn obb_gap(ma: &MovedObb, mb: &MovedObb) -> f64 {
     let (a, b) = (&ma.b, &mb.b);
-    let dc = [0, 1, 2].map(|k| b.c[k] - a.c[k]);
+    let dc = [b.c[0] - a.c[0], b.c[1] - a.c[1], b.c[2] - a.c[2]];
+    // The axes' dot products, each computed once (`dot` is symmetric bit for bit, so the
+    // projections are the ones computed axis by axis): rows 0-2 the axes of `a`, 3-5 of `b`,
+    // 6 the centre line; `pa[n][i] = |a.e_i . n|`, `pb[n][i] = |b.e_i . n|`.
+    let axes = [a.e[0], a.e[1], a.e[2], b.e[0], b.e[1], b.e[2], dc];
+    let mut pa = [[0.0f64; 3]; 7];
+    let mut pb = [[0.0f64; 3]; 7];
+    for i in 0..3 {
+        for j in i..3 {
+            let (x, y) = (dot(&a.e[i], &a.e[j]).abs(), dot(&b.e[i], &b.e[j]).abs());
+            (pa[j][i], pa[i][j]) = (x, x);
+            (pb[3 + j][i], pb[3 + i][j]) = (y, y);
+        }
+        for j in 0..3 {
+            let x = dot(&a.e[i], &b.e[j]).abs();
+            (pa[3 + j][i], pb[i][j]) = (x, x);
+        }
+        (pa[6][i], pb[6][i]) = (dot(&a.e[i], &dc).abs(), dot(&b.e[i], &dc).abs());
+    }
     let mut best = 0.0f64;
-    for n in a.e.iter().chain(&b.e).chain([&dc]) {
-        let ra: f64 = (0..3).map(|i| a.h[i] * dot(&a.e[i], n).abs()).sum();
-        let rb: f64 = (0..3).map(|i| b.h[i] * dot(&b.e[i], n).abs()).sum();
+    for (k, n) in axes.iter().enumerate() {
+        let ra = a.h[0] * pa[k][0] + a.h[1] * pa[k][1] + a.h[2] * pa[k][2];
+        let rb = b.h[0] * pb[k][0] + b.h[1] * pb[k][1] + b.h[2] * pb[k][2];
         let g = dot(&dc, n).abs() - ra - rb;
         if g > 0.0 {
             // the computed projections are within (err_a + err_b) |n|_1 of the exact ones,
@@ -466,14 +486,19 @@ impl Moved {
     fn obb<T: Real>(&self, mesh: &Mesh<T>, i: usize) -> MovedObb {
         let (o, n) = (&mesh.obbs[i], &mesh.nodes[i]);
         let r = &self.r;
-        let mv = |x: &[f64; 3]| [0, 1, 2].map(|k| dot(&r[k], x));
-        let c = [0, 1, 2].map(|k| dot(&r[k], &o.c) + self.t[k]);
-        let e = o.e.map(|x| mv(&x));
+        // (loops, not array maps: those were left as calls on this hot path)
+        let (mut c, mut e) = ([0.0; 3], [[0.0; 3]; 3]);
+        for k in 0..3 {
+            c[k] = dot(&r[k], &o.c) + self.t[k];
+            for i in 0..3 {
+                e[i][k] = dot(&r[k], &o.e[i]);
+            }
+        }
         let (mut big, mut slack) = (0.0, 0.0);
         for k in 0..3 {
             let (mut b, mut v) = (self.t[k].abs(), self.t[k].abs());
             for j in 0..3 {
-                let w = (0..3).map(|i| o.h[i] * o.e[i][j].abs()).sum::<f64>();
+                let w = o.h[0] * o.e[0][j].abs() + o.h[1] * o.e[1][j].abs() + o.h[2] * o.e[2][j].abs();
                 b += r[k][j].abs() * (o.c[j].abs() + w);
                 v += r[k][j].abs() * n.lo[j].abs().max(n.hi[j].abs());
             }
@@ -519,7 +544,11 @@ fn point_gap2(x: &[f64; 3], b: &([f64; 3], [f64; 3])) -> f64 {
 /// The largest absolute coordinate of two boxes: a bound of the magnitude `S` of every
 /// triangle pair in them.
 fn magnitude(a: &Aabb, b: &Aabb) -> f64 {
-    a.0.iter().chain(&a.1).chain(&b.0).chain(&b.1).fold(0.0f64, |s, v| s.max(v.abs()))
+    let mut m = 0.0f64;
+    for k in 0..3 {
+        m = m.max(a.0[k].abs()).max(a.1[k].abs()).max(b.0[k].abs()).max(b.1[k].abs());
+    }
+    m
 }
 
 /// How far apart (exactly) two triangles of magnitude at most `mag` may be and still be
@@ -543,11 +572,12 @@ type Aabb = ([f64; 3], [f64; 3]);
 
 /// The box of a triangle, in f64 (exact: every `T` converts exactly).
 fn tri_box<T: Real>(t: &Triangle<T>) -> Aabb {
-    let f = t.map(|v| v.map(Real::to_f64));
-    (
-        [0, 1, 2].map(|k| f[0][k].min(f[1][k]).min(f[2][k])),
-        [0, 1, 2].map(|k| f[0][k].max(f[1][k]).max(f[2][k])),
-    )
+    let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+    for k in 0..3 {
+        let x = [t[0][k].to_f64(), t[1][k].to_f64(), t[2][k].to_f64()];
+        (lo[k], hi[k]) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));
+    }
+    (lo, hi)
 }
 
 /// Candidate triangle pairs, moved, waiting for the kernels.
@@ -798,11 +828,13 @@ fn children<T: Real>(
     let extent = |n: &Node| (0..3).map(|k| n.hi[k] - n.lo[k]).fold(0.0, f64::max);
     let split_a = ny.count > 0 || (nx.count == 0 && extent(nx) >= extent(ny));
     let mut kids = if split_a {
-        let (first, by) = (nx.first, *sb.bounds(y));
-        [first, first + 1].map(|c| node_gap2(sa.bounds(c), &by, s).map(|g| (g, c, y)))
+        let (c, by) = (nx.first, *sb.bounds(y));
+        let g0 = node_gap2(sa.bounds(c), &by, s).map(|g| (g, c, y));
+        [g0, node_gap2(sa.bounds(c + 1), &by, s).map(|g| (g, c + 1, y))]
     } else {
-        let (first, bx) = (ny.first, *sa.bounds(x));
-        [first, first + 1].map(|c| node_gap2(&bx, sb.bounds(c), s).map(|g| (g, x, c)))
+        let (c, bx) = (ny.first, *sa.bounds(x));
+        let g0 = node_gap2(&bx, sb.bounds(c), s).map(|g| (g, x, c));
+        [g0, node_gap2(&bx, sb.bounds(c + 1), s).map(|g| (g, x, c + 1))]
     };
     if kids[0].map_or(f64::INFINITY, |k| k.0) < kids[1].map_or(f64::INFINITY, |k| k.0) {
         kids.swap(0, 1);
