@@ -424,8 +424,9 @@ struct MovedObb {
 
 /// A lower bound of the distance between two moved oriented boxes: the largest gap of their
 /// projections on the six box axes and the line through their centres (the good axis for
-/// boxes apart along a diagonal), less the balls and every rounding.
-fn obb_gap(ma: &MovedObb, mb: &MovedObb) -> f64 {
+/// boxes apart along a diagonal), less the balls and every rounding; `None` as soon as one
+/// axis shows that its square (rounded down as [`node_gap2`] does) exceeds `lim`.
+fn obb_gap(ma: &MovedObb, mb: &MovedObb, lim: f64) -> Option<f64> {
     let (a, b) = (&ma.b, &mb.b);
     let dc = [b.c[0] - a.c[0], b.c[1] - a.c[1], b.c[2] - a.c[2]];
     // The axes' dot products, each computed once (`dot` is symmetric bit for bit, so the
@@ -457,9 +458,14 @@ fn obb_gap(ma: &MovedObb, mb: &MovedObb) -> f64 {
             let len = dot(n, n).sqrt() * (1.0 + 1e-12);
             let g = (g - (ma.err + mb.err) * norm1(n)) * (1.0 - 1e-12) / len;
             best = best.max(g);
+            // one axis that prunes is enough (the gap is at least its bound)
+            let o = (best - a.rho - b.rho).max(0.0);
+            if o * o * (1.0 - 8.0 * f64::EPSILON) > lim {
+                return None;
+            }
         }
     }
-    (best - a.rho - b.rho).max(0.0)
+    Some((best - a.rho - b.rho).max(0.0))
 }
 
 /// A pose in f64 with the relative slack that makes moved boxes contain the moved vertices.
@@ -740,7 +746,7 @@ fn node_gap2<T: Real>(x: &(Aabb, MovedObb), y: &(Aabb, MovedObb), s: &impl Searc
     if g > lim {
         return None;
     }
-    let o = obb_gap(&x.1, &y.1);
+    let o = obb_gap(&x.1, &y.1, lim)?;
     let g = g.max(o * o * (1.0 - 8.0 * f64::EPSILON));
     (g <= lim).then_some(g)
 }
