@@ -425,7 +425,7 @@ struct MovedObb {
 /// A lower bound of the distance between two moved oriented boxes: the largest gap of their
 /// projections on the six box axes and the line through their centres (the good axis for
 /// boxes apart along a diagonal), less the balls and every rounding; `None` as soon as one
-/// axis shows that its square (rounded down as [`node_gap2`] does) exceeds `lim`.
+/// axis shows that its square (rounded down by [`down`]) exceeds `lim`.
 fn obb_gap(ma: &MovedObb, mb: &MovedObb, lim: f64) -> Option<f64> {
     let (a, b) = (&ma.b, &mb.b);
     let dc = [b.c[0] - a.c[0], b.c[1] - a.c[1], b.c[2] - a.c[2]];
@@ -460,7 +460,7 @@ fn obb_gap(ma: &MovedObb, mb: &MovedObb, lim: f64) -> Option<f64> {
             best = best.max(g);
             // one axis that prunes is enough (the gap is at least its bound)
             let o = (best - a.rho - b.rho).max(0.0);
-            if o * o * (1.0 - 8.0 * f64::EPSILON) > lim {
+            if down(o * o) > lim {
                 return None;
             }
         }
@@ -527,6 +527,12 @@ impl Moved {
     }
 }
 
+/// A squared gap computed in f64 (a few roundings), lowered past them: a lower bound of the
+/// exact square. Every pruning test compares such a bound with the search's limit.
+fn down(s: f64) -> f64 {
+    s * (1.0 - 8.0 * f64::EPSILON)
+}
+
 /// Squared distance between two boxes, rounded down (a lower bound of the exact one).
 fn box_gap2(a: &Aabb, b: &Aabb) -> f64 {
     let mut s = 0.0;
@@ -534,7 +540,7 @@ fn box_gap2(a: &Aabb, b: &Aabb) -> f64 {
         let g = (b.0[k] - a.1[k]).max(a.0[k] - b.1[k]).max(0.0);
         s += g * g;
     }
-    s * (1.0 - 8.0 * f64::EPSILON)
+    down(s)
 }
 
 /// Squared distance from a point to a box, rounded down.
@@ -544,7 +550,7 @@ fn point_gap2(x: &[f64; 3], b: &([f64; 3], [f64; 3])) -> f64 {
         let g = (b.0[k] - x[k]).max(x[k] - b.1[k]).max(0.0);
         s += g * g;
     }
-    s * (1.0 - 8.0 * f64::EPSILON)
+    down(s)
 }
 
 /// The largest absolute coordinate of two boxes: a bound of the magnitude `S` of every
@@ -747,7 +753,7 @@ fn node_gap2<T: Real>(x: &(Aabb, MovedObb), y: &(Aabb, MovedObb), s: &impl Searc
         return None;
     }
     let o = obb_gap(&x.1, &y.1, lim)?;
-    let g = g.max(o * o * (1.0 - 8.0 * f64::EPSILON));
+    let g = g.max(down(o * o));
     (g <= lim).then_some(g)
 }
 
