@@ -109,8 +109,8 @@ pub(crate) fn tri_tri_fast<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut<
             // them and the certificate stays rigorous); for nearly parallel edges that can
             // widen the interval, and such pairs are re-certified or go on to the accurate
             // stage ([`super::seg_seg`]'s accurately rounded cross products). (Ericson's own
-            // (e.d |f|^2 - e.f f.d) / (|e|^2 |f|^2 - (e.f)^2) sent 4 % of the near-parallel
-            // family's pairs to the accurate stage, these none.)
+            // (e.d |f|^2 - e.f f.d) / (|e|^2 |f|^2 - (e.f)^2) sent 4.8 % (f32) and 7.8 % (f64)
+            // of the near-parallel family's pairs to the accurate stage, these none.)
             let d = t[j].sub(s[i]);
             let n = e[i].cross(f[j]);
             let b = e[i].dot(f[j]);
