@@ -47,6 +47,8 @@ pub enum Error {
     InvalidTolerance,
     /// A pose that is not finite (see [`crate::Pose`]).
     InvalidPose,
+    /// A tree width outside `2..=8` ([`crate::Mesh::with_width`]).
+    InvalidTreeWidth(usize),
     /// A mesh vertex has a NaN or infinite coordinate ([`crate::Mesh::new`]).
     NonFiniteVertex {
         /// The vertex number.
@@ -95,6 +97,7 @@ impl core::fmt::Display for Error {
             ),
             Error::InvalidTolerance => write!(f, "tolerances must be non-negative (inf allowed), not NaN"),
             Error::InvalidPose => write!(f, "pose rotation and translation must be finite"),
+            Error::InvalidTreeWidth(w) => write!(f, "tree width {w}: a node has 2 to 8 children"),
             Error::NonFiniteVertex { vertex } => write!(f, "vertex {vertex} has a NaN or infinite coordinate"),
             Error::NonFiniteCoordinate => {
                 write!(f, "a coordinate is NaN or infinite (a query point, or a vertex moved out of range)")

@@ -106,7 +106,7 @@ pub use batch::{Batch, PointBatch, SegmentBatch, TriangleBatch};
 pub use engine::{Engine, Outputs, PenaltyOptions, Prims, Tolerance, ISA_ENV};
 pub use error::Error;
 pub use isa::Isa;
-pub use mesh::{Contact, Mesh, MeshDistance, MeshPoint};
+pub use mesh::{Contact, Mesh, MeshDistance, MeshPoint, DEFAULT_WIDTH, MAX_WIDTH};
 pub use pose::{AsPoint, Pose};
 pub use query::Query;
 pub use real::{Precision, Real};

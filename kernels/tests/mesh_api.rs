@@ -18,6 +18,12 @@ fn bad_meshes_and_poses_are_errors() {
     let mut nan = v.clone();
     nan[1][2] = f32::NAN;
     assert_eq!(Mesh::new(nan, vec![[0, 1, 2]]).unwrap_err(), Error::NonFiniteVertex { vertex: 1 });
+    for w in [0, 1, tridist::MAX_WIDTH + 1, usize::MAX] {
+        assert_eq!(Mesh::with_width(v.clone(), vec![[0, 1, 2]], w).unwrap_err(), Error::InvalidTreeWidth(w));
+    }
+    assert!(Error::InvalidTreeWidth(9).to_string().contains("2 to 8"));
+    assert_eq!(Mesh::with_width(v.clone(), vec![[0, 1, 2]], 5).unwrap().width(), 5);
+    assert_eq!(tetra([0.0; 3]).width(), tridist::DEFAULT_WIDTH);
     let (a, b) = (tetra([0.0; 3]), tetra([3.0, 0.0, 0.0]));
     let e = Engine::auto();
     let id = Pose::identity();

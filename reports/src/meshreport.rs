@@ -5,7 +5,8 @@
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
-use tridist::{Engine, Mesh, Pose, Real};
+use tridist::{Engine, Mesh, Pose, Precision, Real};
+use tridist_scenes::mesh_scenes::TREE_WIDTHS;
 use tridist_scenes::peer::{FclMesh, Peer, PeerPose};
 use tridist_scenes::protocol::{carried_normalised as normalised, trajectory_pose as pose_k};
 use tridist_scenes::workload::median_time;
@@ -36,8 +37,133 @@ struct Row {
 
 /// A scene mesh as tridist's, rounded to `T`.
 fn mesh<T: Real>(m: &tridist_scenes::mesh::Mesh) -> Result<Mesh<T>, String> {
-    Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone())
+    mesh_width(m, tridist::DEFAULT_WIDTH)
+}
+
+/// [`mesh`] with a tree of `width`.
+fn mesh_width<T: Real>(m: &tridist_scenes::mesh::Mesh, width: usize) -> Result<Mesh<T>, String> {
+    Mesh::with_width(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone(), width)
         .map_err(|e| e.to_string())
+}
+
+/// A pose in precision `T` (rounded from f64).
+fn pose_in<T: Real>(p: &Pose<f64>) -> Pose<T> {
+    Pose { rotation: p.rotation.map(|r| r.map(T::from_f64)), translation: p.translation.map(T::from_f64) }
+}
+
+/// One tree width's means: build of both meshes, nodes of both; per trajectory pose distance,
+/// intersection, contacts; per near placement distance, intersection (seconds).
+struct WidthRow {
+    width: usize,
+    nodes: usize,
+    build: f64,
+    t: [f64; 5],
+}
+
+/// Every width of [`TREE_WIDTHS`] on the same poses, the widths alternated pose by pose (so
+/// the machine's drift falls on all of them alike), checked to give the same answers.
+fn width_rows<T: Real>(
+    a: &tridist_scenes::mesh::Mesh,
+    b: &tridist_scenes::mesh::Mesh,
+    budget: Duration,
+    poses: usize,
+    near: &[Pose<f64>],
+) -> Result<Vec<WidthRow>, String> {
+    let e = Engine::auto();
+    let id = Pose::<T>::identity();
+    let mut trees = Vec::new();
+    let mut rows = Vec::new();
+    for w in TREE_WIDTHS {
+        let mut built = None;
+        let build = median_time(|| built = Some((mesh_width::<T>(a, w), mesh_width::<T>(b, w))), budget);
+        let (ma, mb) = built.ok_or("no build")?;
+        let (ma, mb) = (ma?, mb?);
+        rows.push(WidthRow { width: w, nodes: ma.node_count() + mb.node_count(), build, t: [0.0; 5] });
+        trees.push((ma, mb));
+    }
+    let all: Vec<(bool, Pose<T>)> = (0..poses)
+        .map(|k| (true, pose_in::<T>(&pose_k(k, poses).1)))
+        .chain(near.iter().map(|p| (false, pose_in::<T>(p))))
+        .collect();
+    for (on_path, p) in &all {
+        let mut seen: Option<(f64, bool, usize)> = None;
+        for ((ma, mb), row) in trees.iter().zip(&mut rows) {
+            let (mut d, mut hit, mut c) = (f64::NAN, false, 0);
+            let t_d = median_time(
+                || d = e.mesh_distance(ma, &id, mb, p).ok().flatten().map_or(f64::NAN, |r| r.sqdist.to_f64()),
+                budget,
+            );
+            let t_i = median_time(|| hit = matches!(e.mesh_intersect(ma, &id, mb, p), Ok(Some(_))), budget);
+            let n = (if *on_path { poses } else { near.len() }) as f64;
+            if *on_path {
+                let m = T::from_f64(0.02);
+                let t_c = median_time(
+                    || c = e.mesh_contacts(ma, &id, mb, p, m, None).map_or(usize::MAX, |c| c.len()),
+                    budget,
+                );
+                row.t[0] += t_d / n;
+                row.t[1] += t_i / n;
+                row.t[2] += t_c / n;
+            } else {
+                row.t[3] += t_d / n;
+                row.t[4] += t_i / n;
+            }
+            // the same answers at every width (distance bit for bit, verdict, contact count)
+            let now = (d, hit, c);
+            if seen.is_some_and(|s| s.0.to_bits() != now.0.to_bits() || s.1 != now.1 || s.2 != now.2) {
+                return Err(format!(
+                    "tree width {}: answers differ from width {}: {now:?} vs {seen:?}",
+                    row.width, TREE_WIDTHS[0]
+                ));
+            }
+            seen = Some(now);
+        }
+    }
+    Ok(rows)
+}
+
+/// The tree-width section of MESH.md.
+fn widths_md(
+    t: &mut String,
+    a: &tridist_scenes::mesh::Mesh,
+    b: &tridist_scenes::mesh::Mesh,
+    s: &Settings,
+    near: &[Pose<f64>],
+) -> Result<(), String> {
+    let _ = writeln!(
+        t,
+        "## Tree width
+
+The same binary median splits collapsed into trees of 2, 4 and 8 children per node (`Mesh::with_width`: a node's children are the binary descendants found by opening the one of largest box area until there are that many, so every width has the same tree quality; the default is {}). The node tests are the same scalar f64 box and oriented-box gaps at every width (not vectorised across the children yet): a wider tree visits fewer levels and tests more child pairs per visit. Means per pose over the {} trajectory poses (distance, intersection, contacts within 0.02) and the {} near-contact placements above; the widths alternated pose by pose, one thread, `Engine::auto()`; every width gave the same answers (distance bit for bit, verdict, contact count), checked.
+",
+        tridist::DEFAULT_WIDTH,
+        s.mesh_poses,
+        near.len()
+    );
+    for p in [Precision::F32, Precision::F64] {
+        let rows = match p {
+            Precision::F32 => width_rows::<f32>(a, b, s.budget, s.mesh_poses, near)?,
+            Precision::F64 => width_rows::<f64>(a, b, s.budget, s.mesh_poses, near)?,
+        };
+        let _ = writeln!(t, "| {} width | nodes (both) | build ms (both) | distance ms | intersect ms | contacts ms | near: distance ms | near: intersect ms | distance vs binary |\n|---|---|---|---|---|---|---|---|---|", p.name());
+        for r in &rows {
+            let _ = writeln!(
+                t,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                r.width,
+                r.nodes,
+                ms(r.build),
+                ms(r.t[0]),
+                ms(r.t[1]),
+                ms(r.t[2]),
+                ms(r.t[3]),
+                ms(r.t[4]),
+                ratio(rows[0].t[0] / r.t[0], 2)
+            );
+        }
+        let _ = writeln!(t);
+    }
+    Ok(())
 }
 
 /// The agreement cell: "ok", or how far the libraries' distances differ.
@@ -174,6 +300,7 @@ const NEAR_GAP: f64 = 1e-3;
 /// One near-contact placement: its distance (tridist f64) and the times of tridist (f32, f64)
 /// and FCL for the distance and the intersection test.
 struct NearRow {
+    pose: Pose<f64>,
     d: f64,
     t_d32: f64,
     t_d64: f64,
@@ -237,7 +364,19 @@ fn near_rows(
             fcl_t_d = median_time(|| fcl_d = fa.distance(&id64, fb, &pose64), budget);
             fcl_t_i = median_time(|| fcl_hit = Some(fa.collide(&id64, fb, &pose64)), budget);
         }
-        out.push(NearRow { d, t_d32, t_d64, fcl_d, fcl_t_d, hit, t_i32, t_i64, fcl_hit, fcl_t_i });
+        out.push(NearRow {
+            pose: pose64,
+            d,
+            t_d32,
+            t_d64,
+            fcl_d,
+            fcl_t_d,
+            hit,
+            t_i32,
+            t_i64,
+            fcl_hit,
+            fcl_t_i,
+        });
     }
     Ok(out)
 }
@@ -299,11 +438,12 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         header("Mesh queries: tridist, FCL and parry3d on the same meshes and poses", &s.command, seed);
     let _ = writeln!(
         t,
-        "Armadillo ({} triangles) fixed at the origin, fandisk ({} triangles) moved along the seed's trajectory: {} poses from 3 units on one side through the armadillo to 3 units on the other, rotating once about (1, 2, 3); both meshes scaled to [-1, 1]^3. tridist: `Engine::auto()` ({}), a binary tree with an axis-aligned and an oriented box per node (pruning by the larger gap), 4 triangles per leaf, the batch kernels at the leaves; distance with closest points (`mesh_distance`), `mesh_intersect`, `mesh_contacts`. FCL 0.7, double, the library as the distribution ships it (`libfcl-dev`; the shim's glue only is compiled here, so unlike the triangle peer it is not built with `-march=native`): `BVHModel<OBBRSS>`, `fcl::distance` with nearest points and `fcl::collide` (one contact), {}. parry3d / parry3d-f64 0.31: `TriMesh`, `query::distance` and `query::intersection_test`. Times: the median of repeated calls within {} ms per measurement, one thread (the contact query also on two), the same run. Contacts: the triangle pairs within 0.02 (1 % of the scene's size) with their distances and closest points; FCL and parry have no such query here. Agreement: the distances of the three libraries (the poses are built from the same axis and angle: parry rotates by a quaternion, tridist and FCL by the same matrix, so they differ in rounding) and the intersection verdicts.\n",
+        "Armadillo ({} triangles) fixed at the origin, fandisk ({} triangles) moved along the seed's trajectory: {} poses from 3 units on one side through the armadillo to 3 units on the other, rotating once about (1, 2, 3); both meshes scaled to [-1, 1]^3. tridist: `Engine::auto()` ({}), a tree of {} children per node (see Tree width below) with an axis-aligned and an oriented box per node (pruning by the larger gap), 4 triangles per leaf, the batch kernels at the leaves; distance with closest points (`mesh_distance`), `mesh_intersect`, `mesh_contacts`. FCL 0.7, double, the library as the distribution ships it (`libfcl-dev`; the shim's glue only is compiled here, so unlike the triangle peer it is not built with `-march=native`): `BVHModel<OBBRSS>`, `fcl::distance` with nearest points and `fcl::collide` (one contact), {}. parry3d / parry3d-f64 0.31: `TriMesh`, `query::distance` and `query::intersection_test`. Times: the median of repeated calls within {} ms per measurement, one thread (the contact query also on two), the same run. Contacts: the triangle pairs within 0.02 (1 % of the scene's size) with their distances and closest points; FCL and parry have no such query here. Agreement: the distances of the three libraries (the poses are built from the same axis and angle: parry rotates by a quaternion, tridist and FCL by the same matrix, so they differ in rounding) and the intersection verdicts.\n",
         a.triangles.len(),
         b.triangles.len(),
         s.mesh_poses,
         Engine::auto().isa(),
+        tridist::DEFAULT_WIDTH,
         if FclMesh::available() { "measured" } else { "**not measured: FCL was not found at build time** (`apt-get install libfcl-dev libeigen3-dev`, then rebuild)" },
         s.budget.as_millis()
     );
@@ -375,8 +515,9 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         means.push((sum_t / n, sum_fcl / n, sum_ti / n, sum_fcl_i / n, parry_ratio / n));
     }
     let _ = writeln!(t, "Contacts on two threads: `Engine::threads(2)`, the traversal split into pieces walked in parallel (same contacts).\n");
-    near_md(&mut t, &near_rows(&a, &b, s.budget, s.mesh_poses, seed)?);
-    let _ = writeln!(t, "Not measured yet (issue #15): 4- and 8-wide trees.");
+    let near = near_rows(&a, &b, s.budget, s.mesh_poses, seed)?;
+    near_md(&mut t, &near);
+    widths_md(&mut t, &a, &b, s, &near.iter().map(|r| r.pose).collect::<Vec<_>>())?;
     let (m32, m64) = (means[0], means[1]);
     let summary = format!(
         "- Mesh distance with closest points, Armadillo vs fandisk ({} poses through each other), one thread, mean per pose: tridist f32 {} ms, f64 {} ms; FCL (OBBRSS, double) {} ms: **{} (f32)** and **{} (f64)** FCL's speed; parry3d {:.1}x slower than tridist f32. Collision: tridist {} ms, FCL {} ms ([reports/MESH.md](reports/MESH.md)).",

@@ -11,6 +11,10 @@ use tridist_oracle as oracle;
 pub const FAMILIES: &[&str] =
     &["separated", "near_parallel", "touching", "interpenetrating", "far", "degenerate", "needles"];
 
+/// The tree widths the differential tests and the fuzz target run (every variant on
+/// [`tridist::DEFAULT_WIDTH`], the best one on the others).
+pub const TREE_WIDTHS: [usize; 3] = [2, 4, 8];
+
 /// An indexed mesh in f64.
 #[derive(Clone, Debug)]
 pub struct SceneMesh {
@@ -23,8 +27,13 @@ pub struct SceneMesh {
 impl SceneMesh {
     /// The mesh in precision `T` (vertices rounded).
     pub fn mesh<T: Real>(&self) -> tridist::Mesh<T> {
+        self.mesh_width(tridist::DEFAULT_WIDTH)
+    }
+
+    /// [`SceneMesh::mesh`] with a tree of `width` ([`tridist::Mesh::with_width`]).
+    pub fn mesh_width<T: Real>(&self, width: usize) -> tridist::Mesh<T> {
         let v = self.vertices.iter().map(|p| p.map(T::from_f64)).collect();
-        tridist::Mesh::new(v, self.triangles.clone()).expect("generated meshes are valid")
+        tridist::Mesh::with_width(v, self.triangles.clone(), width).expect("generated meshes are valid")
     }
 }
 
@@ -403,9 +412,22 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         ensure!(v <= bound, "{tag}: {what} E = {v} (bound {bound})");
         Ok(())
     };
-    for isa in Isa::ALL.into_iter().filter(|i| i.is_available()) {
+    // every variant on the default tree; the best variant also on the other widths (the
+    // answers must not depend on the width)
+    let isas: Vec<Isa> = Isa::ALL.into_iter().filter(|i| i.is_available()).collect();
+    let best = Engine::auto().isa();
+    let runs = isas
+        .iter()
+        .map(|&i| (i, tridist::DEFAULT_WIDTH))
+        .chain(TREE_WIDTHS.into_iter().filter(|&w| w != tridist::DEFAULT_WIDTH).map(|w| (best, w)));
+    for (isa, width) in runs {
         let e = Engine::new(isa).expect("available");
-        let tag = format!("{fam}/{idx} {} {}", T::PRECISION.name(), e.isa());
+        let (ma, mb) = if width == tridist::DEFAULT_WIDTH {
+            (ma.clone(), mb.clone())
+        } else {
+            (s.a.mesh_width::<T>(width), s.b.mesh_width::<T>(width))
+        };
+        let tag = format!("{fam}/{idx} {} {} width {width}", T::PRECISION.name(), e.isa());
 
         // 1. distance
         let r = e.mesh_distance(&ma, &pa, &mb, &pb).map_err(|e| format!("{tag}: {e}"))?.expect("non-empty");

@@ -53,17 +53,22 @@ macro_rules! family_tests {
 family_tests!(separated, near_parallel, touching, interpenetrating, far, degenerate, needles);
 
 /// Contacts on two threads (the traversal split into pieces walked in parallel) are exactly
-/// the single-threaded contacts, on the report's interpenetrating poses of Armadillo and
+/// the single-threaded contacts, and every tree width gives the same answers (distance,
+/// intersection verdict, contacts), on the report's interpenetrating poses of Armadillo and
 /// fandisk (thousands of contacts) and on a separated one (none).
 #[test]
-fn threaded_contacts_are_the_single_threaded_ones() {
+fn threaded_contacts_and_tree_widths_give_the_same_answers() {
     use tridist_scenes::protocol::{carried_normalised, trajectory_pose};
     fn run<T: tridist::Real>() {
-        let load = |n: &str| {
+        let load = |n: &str, w: usize| {
             let m = carried_normalised(n).unwrap();
-            tridist::Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles).unwrap()
+            let v = m.vertices.iter().map(|p| p.map(T::from_f64)).collect();
+            tridist::Mesh::with_width(v, m.triangles, w).unwrap()
         };
-        let (a, b) = (load("armadillo.off"), load("fandisk_large.off"));
+        let trees: Vec<_> = tridist_scenes::mesh_scenes::TREE_WIDTHS
+            .iter()
+            .map(|&w| (w, load("armadillo.off", w), load("fandisk_large.off", w)))
+            .collect();
         let e = tridist::Engine::auto();
         let id = tridist::Pose::<T>::identity();
         for k in [0, 4, 5, 7] {
@@ -73,11 +78,25 @@ fn threaded_contacts_are_the_single_threaded_ones() {
                 translation: p.translation.map(T::from_f64),
             };
             let m = T::from_f64(0.02);
-            let one = e.mesh_contacts(&a, &id, &b, &p, m, None).unwrap();
-            let two = e.threads(2).mesh_contacts(&a, &id, &b, &p, m, None).unwrap();
+            let (_, a, b) = trees.iter().find(|t| t.0 == tridist::DEFAULT_WIDTH).unwrap();
+            let one = e.mesh_contacts(a, &id, b, &p, m, None).unwrap();
+            let two = e.threads(2).mesh_contacts(a, &id, b, &p, m, None).unwrap();
             assert_eq!(one.len(), two.len(), "pose {k}");
             assert!(one == two, "pose {k}: threaded contacts differ");
             assert_eq!(one.is_empty(), k == 0, "pose {k}: {} contacts", one.len());
+            let d = e.mesh_distance(a, &id, b, &p).unwrap().unwrap().sqdist;
+            let hit = e.mesh_intersect(a, &id, b, &p).unwrap().is_some();
+            assert_eq!(hit, k != 0, "pose {k}");
+            for (w, a, b) in trees.iter().filter(|t| t.0 != tridist::DEFAULT_WIDTH) {
+                assert_eq!(a.width(), *w);
+                if *w > 2 {
+                    assert!(a.node_count() < trees[0].1.node_count(), "width {w}: fewer nodes than binary");
+                }
+                let c = e.mesh_contacts(a, &id, b, &p, m, None).unwrap();
+                assert!(c == one, "pose {k}, width {w}: contacts differ");
+                assert_eq!(e.mesh_distance(a, &id, b, &p).unwrap().unwrap().sqdist, d, "pose {k}, width {w}");
+                assert_eq!(e.mesh_intersect(a, &id, b, &p).unwrap().is_some(), hit, "pose {k}, width {w}");
+            }
         }
     }
     run::<f32>();
