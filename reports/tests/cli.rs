@@ -271,6 +271,9 @@ fn a_small_report_writes_parseable_files() {
         .split("## Near contact at random orientations")
         .nth(1)
         .expect("the near-contact section")
+        .split("## Tree width")
+        .next()
+        .unwrap_or_default()
         .lines()
         .filter(|l| l.starts_with("| ") && !l.starts_with("| placement"))
         .collect();
@@ -283,6 +286,40 @@ fn a_small_report_writes_parseable_files() {
         assert_eq!(cells[5].parse::<f64>().is_ok_and(|t| t > 0.0), fcl, "{r}"); // FCL's time
         assert_eq!(cells[8], if fcl { "no, no" } else { "no, -" }, "{r}");
         assert_eq!(cells[12], "ok", "{r}");
+    }
+    // tree widths: 2, 4 and 8 per precision, every time positive
+    let widths = mesh.split("## Tree width").nth(1).expect("the tree-width section");
+    for p in ["f32", "f64"] {
+        let rows: Vec<Vec<&str>> = widths
+            .lines()
+            .skip_while(|l| !l.starts_with(&format!("| {p} width")))
+            .skip(2)
+            .take_while(|l| l.starts_with("| "))
+            .map(|l| l.split('|').map(str::trim).collect())
+            .collect();
+        assert_eq!(rows.iter().map(|c| c[1]).collect::<Vec<_>>(), ["2", "4", "8"], "{widths}");
+        for c in &rows {
+            // build, distance and near-contact distance take time; the others may round to 0
+            assert!([c[3], c[4], c[7]].iter().all(|x| x.parse::<f64>().unwrap() > 0.0), "{c:?}");
+            assert!(c[5..9].iter().all(|x| x.parse::<f64>().unwrap() >= 0.0), "{c:?}");
+        }
+    }
+    // threads: both precisions of both workloads at the run's batch and the large one
+    let thr = std::fs::read_to_string(dir.join("THROUGHPUT.md")).unwrap();
+    let rows: Vec<Vec<&str>> = thr
+        .split("## Threads")
+        .nth(1)
+        .expect("the threads section")
+        .lines()
+        .skip(6)
+        .take_while(|l| l.starts_with("| "))
+        .map(|l| l.split('|').map(str::trim).collect())
+        .collect();
+    assert_eq!(rows.len(), 8, "{thr}");
+    for c in &rows {
+        assert!(c[3] == "64" || c[3] == "65536", "{c:?}");
+        assert!(c[4..6].iter().all(|x| x.parse::<f64>().unwrap() > 0.0), "{c:?}");
+        assert!(c[6].ends_with('x') && c[7].ends_with('x'), "{c:?}");
     }
     let mut r = csv::Reader::from_path(dir.join("throughput.csv")).unwrap();
     assert_eq!(r.headers().unwrap().len(), 15);
