@@ -47,7 +47,7 @@ enum Cmd {
     /// and plots into reports/ (ACCURACY.md, THROUGHPUT.md, TRADEOFF.md, *.svg,
     /// throughput.csv) and the README's results section.
     Report {
-        /// Fewer cases and pairs, shorter timing (about a minute).
+        /// Fewer cases and pairs, shorter timing (two to three minutes on 2 cores, plus the build).
         #[arg(long)]
         quick: bool,
         /// Write here instead of reports/ (the README is then left alone).
