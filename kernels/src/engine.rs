@@ -348,8 +348,9 @@ impl Engine {
 
     /// The same engine splitting each batch over `n` threads (`0`: every available core), in
     /// pieces that idle threads take from busy ones: the calling thread and `n - 1` helpers (a
-    /// persistent rayon pool with the default `rayon` feature, std scoped threads without it). Batches below 2048 pairs stay on the
-    /// calling thread. Results are identical to the single-threaded ones.
+    /// persistent rayon pool with the default `rayon` feature, std scoped threads without it).
+    /// Batches below 2048 pairs stay on the calling thread. Results are identical to the
+    /// single-threaded ones.
     ///
     /// # Example
     /// ```
