@@ -1,11 +1,19 @@
 //! Runs one query on one workload for a few seconds (for `perf record`):
-//! `cargo run --release -p tridist-benches --bin spin -- tri_tri random f32 avx2fma 5 [pairs]`
+//! `cargo run --release -p tridist-benches --bin spin -- tri_tri random f32 avx2fma 5 [pairs]`,
+//! or a mesh query on the mesh report's scene (Armadillo fixed, fandisk at trajectory pose
+//! `k` of 12): `spin mesh contacts|distance|intersect|build <k> f32|f64 <threads> <secs>`.
 use tridist::{Engine, Intersection, Isa, Query};
 use tridist_scenes::workload::Workload;
 use tridist_scenes::{families, Family};
 
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
+    if a[0] == "mesh" {
+        if a[3] == "f32" {
+            return mesh::<f32>(&a);
+        }
+        return mesh::<f64>(&a);
+    }
     let q = Query::parse(&a[0]).expect("query");
     let arm = || tridist_scenes::mesh::carried("armadillo.off").expect("armadillo");
     let isa = Isa::parse(&a[3]).unwrap_or(Isa::Scalar);
@@ -61,4 +69,40 @@ fn main() {
         go!(f64)
     }
     println!("{:.2} M/s", n as f64 / t.elapsed().as_secs_f64() / 1e6);
+}
+
+/// `spin mesh <query> <pose> <precision> <threads> <secs>`: calls per second and the answer's size.
+fn mesh<T: tridist::Real>(a: &[String]) {
+    use tridist::{Mesh, Pose};
+    let load = |f: &str| tridist_scenes::protocol::carried_normalised(f).expect("carried mesh");
+    let (arm, fan) = (load("armadillo.off"), load("fandisk_large.off"));
+    let tm = |m: &tridist_scenes::mesh::Mesh| {
+        Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone()).expect("mesh")
+    };
+    let k: usize = a[2].parse().expect("pose index");
+    let threads: usize = a[4].parse().expect("threads");
+    let secs: f64 = a[5].parse().expect("seconds");
+    let (_, p64) = tridist_scenes::protocol::trajectory_pose(k, 12);
+    let pose = Pose {
+        rotation: p64.rotation.map(|r| r.map(T::from_f64)),
+        translation: p64.translation.map(T::from_f64),
+    };
+    let (ma, mb) = (tm(&arm), tm(&fan));
+    let id = Pose::<T>::identity();
+    let e = Engine::auto().threads(threads);
+    let margin = T::from_f64(0.02);
+    let t = std::time::Instant::now();
+    let (mut calls, mut size) = (0usize, 0usize);
+    while t.elapsed().as_secs_f64() < secs {
+        size = match a[1].as_str() {
+            "contacts" => e.mesh_contacts(&ma, &id, &mb, &pose, margin, None).expect("contacts").len(),
+            "distance" => e.mesh_distance(&ma, &id, &mb, &pose).expect("distance").map_or(0, |d| d.tri_a),
+            "intersect" => e.mesh_intersect(&ma, &id, &mb, &pose).expect("intersect").map_or(0, |h| h.0),
+            "build" => tm(&arm).len() + tm(&fan).len(),
+            q => panic!("unknown mesh query {q}"),
+        };
+        calls += 1;
+    }
+    let el = t.elapsed().as_secs_f64();
+    println!("{} {}: {calls} calls, {:.3} ms per call, answer {size}", a[1], a[2], 1e3 * el / calls as f64);
 }
