@@ -392,7 +392,10 @@ struct Item {
 /// points `c + sum_i s_i e_i` with `|s_i| <= h_i`, enlarged by the ball of radius `rho`. Every
 /// vertex `v` of the node is in it *exactly*: with `s_i = e_i . (v - c)` and the residual
 /// `r = v - c - sum_i s_i e_i` (an identity for any `e_i`), `h_i` and `rho` bound `|s_i|` and
-/// `|r|` with a margin for the rounding of their computation. The axes come from the
+/// `|r|` with a margin for the rounding of their computation, from the vertices' extents
+/// along the axes and how far the computed axes are from orthonormal (`Obb::fit`; the unit
+/// test checks it in double-double arithmetic on far-from-origin, flat and collinear sets).
+/// The axes come from the
 /// principal axes of the node's vertices, so a flat patch gets a thin box in any pose (the
 /// axis-aligned boxes only in the mesh frame).
 #[derive(Clone, Copy, Debug)]
@@ -431,7 +434,9 @@ fn principal_axes(mut a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
             let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
             let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
             let t = if theta == 0.0 { 1.0 } else { t };
-            let (c, s) = (1.0 / (t * t + 1.0).sqrt(), t / (t * t + 1.0).sqrt());
+            // (one division: the build's time is mostly these rotations' divisions and roots)
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
             // a <- J^T a J, v <- v J (columns p, q rotated)
             for k in 0..3 {
                 let (akp, akq) = (a[k][p], a[k][q]);
@@ -478,35 +483,44 @@ impl Obb {
         }
         let cov = [0, 1, 2].map(|i| [0, 1, 2].map(|j| sq[i][j] - sum[i] * sum[j] / n));
         let e = principal_axes(cov);
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        // The extents along the axes and the largest 1-norm, in the same pass.
+        let (mut lo, mut hi, mut big) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0.0f64);
         for p in points {
             for i in 0..3 {
                 let s = dot(&e[i], p);
                 lo[i] = lo[i].min(s);
                 hi[i] = hi[i].max(s);
             }
+            big = big.max(norm1(p));
         }
         let mid = [0, 1, 2].map(|i| 0.5 * lo[i] + 0.5 * hi[i]);
         let c = [0, 1, 2].map(|k| (0..3).map(|i| mid[i] * e[i][k]).sum::<f64>());
-        // the certificate: |s_i| and |r| as computed, plus their computation's rounding (a
-        // few operations on numbers of magnitude at most `m`: 64 eps m is far above it)
-        let (mut h, mut rho, mut m) = ([0.0f64; 3], 0.0f64, 0.0f64);
-        // (written out: array `map`s here were left as calls, a tenth of the build)
-        let resid = |d: &[f64; 3], sv: &[f64; 3], k: usize| {
-            d[k] - sv[0] * e[0][k] - sv[1] * e[1][k] - sv[2] * e[2][k]
-        };
-        for p in points {
-            let d = [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
-            let sv = [dot(&e[0], &d), dot(&e[1], &d), dot(&e[2], &d)];
-            let r = [resid(&d, &sv, 0), resid(&d, &sv, 1), resid(&d, &sv, 2)];
+        // The certificate, from those alone (no pass over the points again). For a vertex `v`,
+        // exactly: `s_i = e_i . v - e_i . c`, where the computed `e_i . v` lies in
+        // [lo_i, hi_i] and each dot product is within `2 eps w |x|_1` of the exact one (`w` the
+        // largest axis entry, about 1), so `|s_i| <= max(hi_i - e_i . c, e_i . c - lo_i)` plus
+        // `6 eps w m` with `m = |v|_1 + |c|_1` and the subtraction's rounding; and
+        // `r = (I - E^T E)(v - c)` (E the axes as rows), so `|r| <= |r|_1 <= |G|_1 m` with
+        // `|G|_1` the largest column sum of `G = I - E^T E`, each entry computed within
+        // `8 eps (1 + 3 w^2)`. `slack` is far above both allowances.
+        let w = e.iter().flatten().fold(1.0f64, |a, x| a.max(x.abs()));
+        let m = (big + norm1(&c)) * (1.0 + 8.0 * f64::EPSILON);
+        let slack = 64.0 * f64::EPSILON * w * m;
+        let h = [0, 1, 2].map(|i| {
+            let ec = dot(&e[i], &c);
+            (hi[i] - ec).max(ec - lo[i]) + slack
+        });
+        let mut g = 0.0f64;
+        for j in 0..3 {
+            let mut col = 0.0;
             for i in 0..3 {
-                h[i] = h[i].max(sv[i].abs());
+                let id = if i == j { 1.0 } else { 0.0 };
+                col += (id - (e[0][i] * e[0][j] + e[1][i] * e[1][j] + e[2][i] * e[2][j])).abs();
             }
-            rho = rho.max(norm1(&r));
-            m = m.max(norm1(p) + norm1(&c) + norm1(&sv));
+            g = g.max(col);
         }
-        let slack = 64.0 * f64::EPSILON * m;
-        Obb { c, e, h: h.map(|x| x + slack), rho: rho + slack }
+        let g = (g + 32.0 * f64::EPSILON * (1.0 + 3.0 * w * w)) * (1.0 + 8.0 * f64::EPSILON);
+        Obb { c, e, h, rho: g * m + slack }
     }
 }
 
@@ -1443,5 +1457,99 @@ impl Engine {
             flush(&mut ids, &mut tris, &mut best, &mut best_d)?;
         }
         Ok(best)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Obb;
+
+    /// `a + b` as an unevaluated sum (Knuth's two-sum: exact).
+    fn two_sum(a: f64, b: f64) -> (f64, f64) {
+        let s = a + b;
+        let bb = s - a;
+        (s, (a - (s - bb)) + (b - bb))
+    }
+
+    /// A double-double `(hi, lo)` times `x`, plus a double-double: about 2^-100 relative.
+    fn dd_mul_add(a: (f64, f64), x: f64, acc: (f64, f64)) -> (f64, f64) {
+        let p = a.0 * x;
+        let e = a.0.mul_add(x, -p) + a.1 * x;
+        let (s, t) = two_sum(acc.0, p);
+        two_sum(s, t + acc.1 + e)
+    }
+
+    /// Every point lies in its box as the type promises: with `s_i = e_i . (v - c)` (computed
+    /// in double-double, far below the box's allowance), `|s_i| <= h_i` and
+    /// `|v - c - sum s_i e_i|_1 <= rho`; and the box is tight (its widths within a millionth
+    /// of the point set's extent plus the allowance's order).
+    #[test]
+    fn oriented_boxes_contain_their_points() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut sets: Vec<Vec<[f64; 3]>> = Vec::new();
+        for &(size, offset) in &[(1.0, 0.0), (1e-3, 1e3), (1e-6, 1e6), (1e3, -1e-3), (1e-9, 0.5)] {
+            for n in [1, 2, 3, 7, 40] {
+                // a blob, a flat patch (z exactly equal), a line, a thin slab
+                sets.push((0..n).map(|_| [0; 3].map(|_| offset + size * rnd())).collect());
+                let z = offset + size * rnd();
+                sets.push((0..n).map(|_| [offset + size * rnd(), offset + size * rnd(), z]).collect());
+                let (o, d) = ([0; 3].map(|_| offset + size * rnd()), [0; 3].map(|_| size * rnd()));
+                sets.push(
+                    (0..n)
+                        .map(|_| {
+                            let t = rnd();
+                            [0, 1, 2].map(|k| o[k] + t * d[k])
+                        })
+                        .collect(),
+                );
+                sets.push(
+                    (0..n)
+                        .map(|_| {
+                            [offset + size * rnd(), offset + size * rnd(), offset + 1e-12 * size * rnd()]
+                        })
+                        .collect(),
+                );
+            }
+        }
+        for pts in &sets {
+            let b = Obb::fit(pts);
+            for v in pts {
+                let d = [0, 1, 2].map(|k| two_sum(v[k], -b.c[k]));
+                let s = [0, 1, 2].map(|i| (0..3).fold((0.0, 0.0), |acc, k| dd_mul_add(d[k], b.e[i][k], acc)));
+                for i in 0..3 {
+                    assert!(
+                        s[i].0.abs() + s[i].1.abs() <= b.h[i],
+                        "|s_{i}| = {:e} > h = {:e}",
+                        s[i].0,
+                        b.h[i]
+                    );
+                }
+                let mut r1 = 0.0;
+                for k in 0..3 {
+                    let mut r = d[k];
+                    for i in 0..3 {
+                        r = dd_mul_add(s[i], -b.e[i][k], r);
+                    }
+                    r1 += r.0.abs() + r.1.abs();
+                }
+                assert!(r1 <= b.rho, "|r|_1 = {r1:e} > rho = {:e}", b.rho);
+            }
+            // tight: the box's half-widths exceed the set's own (along its axes) by rounding only
+            let m = pts.iter().map(|p| p[0].abs() + p[1].abs() + p[2].abs()).fold(0.0, f64::max);
+            for i in 0..3 {
+                let proj: Vec<f64> = pts.iter().map(|p| super::dot(&b.e[i], p)).collect();
+                let half = 0.5
+                    * (proj.iter().copied().fold(f64::MIN, f64::max)
+                        - proj.iter().copied().fold(f64::MAX, f64::min));
+                assert!(b.h[i] - half <= 1e-12 * m, "h_{i} = {:e}, half-width {half:e}", b.h[i]);
+            }
+            assert!(b.rho <= 1e-12 * m, "rho = {:e}", b.rho);
+        }
     }
 }
