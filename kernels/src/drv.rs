@@ -5,8 +5,11 @@
 //! A batch is processed in chunks of [`CHUNK`] pairs. Stage 0 of the query's kernel runs on
 //! every pair, a vector of lanes at a time (SoA columns are loaded directly; AoS slices and a
 //! broadcast primitive are gathered); every lane's answer is written, and the indices of the
-//! pairs it did not accept (certificate wider than the tolerance) are collected. Those are then
-//! gathered into full vectors (lane compaction) for stage 1 when the kernel has one; what is
+//! pairs it did not accept (certificate wider than the tolerance) are collected. For
+//! triangle-triangle distance stage 0 is the quick stage (one edge pair per triangle pair),
+//! and its open pairs are gathered into full vectors (lane compaction) for stage 1, the full
+//! fast stage (counted as refined). The open pairs' answers are then re-certified tightly, and
+//! those still open gathered for the kernel's accurate stage when it has one; what is
 //! still open goes to the full pipeline of the kernel's next query (brute force after PQP's
 //! undecided lanes, triangle-triangle distance after the cheap tests of within-margin and
 //! intersection), or, for f32
@@ -123,18 +126,36 @@ impl<'a, T: Real> Src<'a, T> {
         to_points(&coord, K)
     }
 
-    /// The primitives `idx[0..]` (at most `L::N`; lanes beyond repeat the last one).
+    /// The primitives `idx[0..]` (at most `L::N`; lanes beyond repeat the last one). The
+    /// layout is matched once, not per coordinate (compaction gathers a large share of the
+    /// pairs when the quick stage of triangle distance leaves them open).
     #[inline(always)]
     fn gather<L: Lanes<S = T>>(&self, kk: L::K, idx: &[u32]) -> [V3<L>; 3] {
         let mut coord = [L::splat(kk, T::ZERO); 9];
-        for (j, c) in coord.iter_mut().enumerate().take(3 * self.k()) {
-            let mut buf = [T::ZERO; 8];
-            for (l, slot) in buf.iter_mut().enumerate().take(L::N) {
-                *slot = self.at(idx[l.min(idx.len() - 1)] as usize, j);
-            }
-            *c = L::load(kk, &buf);
+        let mut at = [0usize; 8];
+        for (l, a) in at.iter_mut().enumerate().take(L::N) {
+            *a = idx[l.min(idx.len() - 1)] as usize;
         }
-        to_points(&coord, self.k())
+        let k = self.k();
+        match *self {
+            Src::Soa { data, cap, base, .. } => {
+                for (j, c) in coord.iter_mut().enumerate().take(3 * k) {
+                    *c = L::gather(kk, &data[j * cap + base..], &at);
+                }
+            }
+            Src::Aos { flat, .. } => {
+                let at = at.map(|i| i * 3 * k);
+                for (j, c) in coord.iter_mut().enumerate().take(3 * k) {
+                    *c = L::gather(kk, &flat[j..], &at);
+                }
+            }
+            Src::One { flat, .. } => {
+                for (j, c) in coord.iter_mut().enumerate().take(3 * k) {
+                    *c = L::splat(kk, flat[j]);
+                }
+            }
+        }
+        to_points(&coord, k)
     }
 }
 
@@ -266,10 +287,11 @@ impl<T: Real> Pending<T> {
         self.idx.clear();
         self.ans.clear();
     }
+    /// An open pair whose answer the next step does not read (it recomputes the pair): the
+    /// re-certification, the only reader of `ans`, runs only on pairs pushed with theirs.
     #[inline(always)]
     fn push(&mut self, i: usize) {
         self.idx.push(i as u32);
-        self.ans.push([T::ZERO; 7]);
     }
     #[inline(always)]
     fn push_answer(&mut self, i: usize, l: &Lane<T>) {
@@ -305,11 +327,19 @@ pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
     while start < n {
         let end = (start + CHUNK).min(n);
         let mut open = Pending::new();
-        pass::<L, K, 0>(kk, job, start, end, None, &mut open);
+        // (the answers of open pairs are kept only for the tight re-certification, which
+        // follows the last stage before the accurate one)
+        pass::<L, K, 0>(kk, job, start, end, None, &mut open, K::RECERT && K::STAGES == 1);
         job.counts.pairs += (end - start) as u64;
         if K::NEXT == Some(Query::TriTri) {
             // within-margin and intersection: decided by their own cheap test
             job.counts.prefiltered += (end - start - open.len()) as u64;
+        }
+        if K::STAGES == 3 && !open.is_empty() {
+            job.counts.refined += open.len() as u64;
+            let mut still = Pending::new();
+            pass::<L, K, 1>(kk, job, 0, 0, Some(open.as_slice()), &mut still, K::RECERT);
+            open = still;
         }
         if K::RECERT && !open.is_empty() {
             job.counts.recertified += open.len() as u64;
@@ -317,10 +347,10 @@ pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
             recert::<L, K>(kk, job, &open, &mut still);
             open = still;
         }
-        if K::STAGES > 1 && !open.is_empty() {
+        if K::STAGES == 3 && !open.is_empty() {
             job.counts.compacted += open.len() as u64;
             let mut still = Pending::new();
-            pass::<L, K, 1>(kk, job, 0, 0, Some(open.as_slice()), &mut still);
+            pass::<L, K, 2>(kk, job, 0, 0, Some(open.as_slice()), &mut still, false);
             open = still;
         }
         if !open.is_empty() {
@@ -331,7 +361,7 @@ pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
 }
 
 /// Runs stage `ST` of `K` on pairs `start..end` (or on `idx`, gathered), writes every pair's
-/// answer and collects the ones not accepted.
+/// answer and collects the ones not accepted (with their answers when `answers`).
 #[inline(always)]
 fn pass<L: Lanes, K: Kernel, const ST: u8>(
     kk: L::K,
@@ -340,6 +370,7 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
     end: usize,
     idx: Option<&[u32]>,
     open: &mut Pending<L::S>,
+    answers: bool,
 ) {
     let groups = match idx {
         Some(ix) => ix.len().div_ceil(L::N),
@@ -363,17 +394,21 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
             }
         };
         let o = K::stage::<L, ST>(&a, &b, &job.prm);
-        write::<L>(job, &o, &ids[..lanes], open);
+        write::<L>(job, &o, &ids[..lanes], open, answers);
     }
 }
 
-/// Writes every lane's answer and collects (with their answers) the ones not accepted.
+/// Writes every lane's answer and collects the ones not accepted (with their answers when
+/// `answers`).
 #[inline(always)]
-fn write<L: Lanes>(job: &mut Job<'_, L::S>, o: &crate::algo::Out<L>, ids: &[u32], open: &mut Pending<L::S>) {
+fn write<L: Lanes>(
+    job: &mut Job<'_, L::S>,
+    o: &crate::algo::Out<L>,
+    ids: &[u32],
+    open: &mut Pending<L::S>,
+    answers: bool,
+) {
     let ok = o.ok.bits();
-    // The common case: a full vector of consecutive pairs, all accepted, squared distances
-    // only (no verdict queries, no other output): one vector store.
-    let full = (1u32 << L::N) - 1;
     let s = &job.sink;
     let only_d = s.verdict.is_none()
         && s.cp.is_none()
@@ -382,10 +417,28 @@ fn write<L: Lanes>(job: &mut Job<'_, L::S>, o: &crate::algo::Out<L>, ids: &[u32]
         && s.iv.is_none()
         && s.iters.is_none()
         && s.ok.is_none();
-    if ok == full && only_d && ids.len() == L::N && ids[L::N - 1] == ids[0] + (L::N as u32 - 1) {
+    let shut = !ok & ((1u32 << ids.len()) - 1);
+    // The common cases: squared distances only (no verdict queries, no other output), and the
+    // open pairs' answers not needed (the next stage recomputes them and writes over these):
+    // one vector store for consecutive pairs, a scatter for gathered ones, then the open
+    // lanes' indices.
+    if only_d && (shut == 0 || !answers) {
         if let Some(d) = job.sink.d.as_deref_mut() {
-            let i = ids[0] as usize;
-            o.d.store(&mut d[i..i + L::N]);
+            if ids.len() == L::N && ids[L::N - 1] == ids[0] + (L::N as u32 - 1) {
+                let i = ids[0] as usize;
+                o.d.store(&mut d[i..i + L::N]);
+            } else {
+                let mut buf = [L::S::ZERO; 8];
+                o.d.store(&mut buf);
+                for (l, &id) in ids.iter().enumerate() {
+                    d[id as usize] = buf[l];
+                }
+            }
+        }
+        let mut rest = shut;
+        while rest != 0 {
+            open.push(ids[rest.trailing_zeros() as usize] as usize);
+            rest &= rest - 1;
         }
         return;
     }
@@ -404,8 +457,10 @@ fn write<L: Lanes>(job: &mut Job<'_, L::S>, o: &crate::algo::Out<L>, ids: &[u32]
             it: buf[9][l].to_f64() as u32,
         };
         job.sink.put(id as usize, &lane);
-        if !lane.ok {
+        if !lane.ok && answers {
             open.push_answer(id as usize, &lane);
+        } else if !lane.ok {
+            open.push(id as usize);
         }
     }
 }
@@ -419,6 +474,7 @@ fn recert<L: Lanes, K: Kernel>(
     still: &mut Pending<L::S>,
 ) {
     let ix = open.as_slice();
+    debug_assert_eq!(open.ans.len(), ix.len(), "re-certification of pairs pushed without their answers");
     for g in 0..ix.len().div_ceil(L::N) {
         let (lo, hi) = (g * L::N, ((g + 1) * L::N).min(ix.len()));
         let part = &ix[lo..hi];
@@ -441,7 +497,7 @@ fn recert<L: Lanes, K: Kernel>(
             (1, 3) => crate::algo::recertify::<L, 1, 3>(&a, &b, d, p, q, &job.prm),
             _ => crate::algo::recertify::<L, 3, 3>(&a, &b, d, p, q, &job.prm),
         };
-        write::<L>(job, &o, part, still);
+        write::<L>(job, &o, part, still, false);
     }
 }
 
@@ -519,6 +575,7 @@ fn rerun<T: Real, W: Real, Tk: Token>(
     };
     W::run_with(tk, &mut sub);
     let c = sub.counts;
+    job.counts.refined += c.refined;
     job.counts.compacted += c.compacted;
     job.counts.recertified += c.recertified;
     job.counts.widened += c.widened;

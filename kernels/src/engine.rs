@@ -67,8 +67,9 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 /// Every query computes a certified interval `[lo, hi]` around the exact distance of each pair
 /// ([`Interval`]). A pair is done when `hi - lo <= max(scaled * u * S, absolute, relative *
 /// lo)` (`u` the unit roundoff of the input's precision, `S` the pair's largest absolute
-/// coordinate). Otherwise it goes on: from the fast stage to the accurate stage (gathered into
-/// full vectors), then, for f32 input, to the same algorithm in f64 on the exactly widened
+/// coordinate). Otherwise it goes on: from the quick stage (triangle-triangle distance) to the
+/// full fast stage and from there to the accurate stage (each gathered into full vectors),
+/// then, for f32 input, to the same algorithm in f64 on the exactly widened
 /// input, then, with the `exact` feature, to the exact rational oracle. What each setting
 /// guarantees, for every pair the batch reports as certified ([`PathCounts::uncertified`]
 /// counts the others):

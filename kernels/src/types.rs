@@ -100,7 +100,11 @@ pub struct PathCounts {
     /// Pairs handed from a cheap test to the full distance pipeline (within-margin survivors
     /// of the box test, intersection pairs neither separated nor pierced).
     pub delegated: u64,
-    /// Pairs whose first certificate was wider than the tolerance, re-certified with the tight
+    /// Triangle-triangle distance: pairs the quick stage (one edge pair) left open, answered
+    /// by the full fast stage (fifteen candidates and contact) in compacted vectors.
+    pub refined: u64,
+    /// Pairs whose fast-stage certificate was wider than the tolerance (for triangle-triangle
+    /// distance: the full fast stage's), re-certified with the tight
     /// (error-free transformation) certificate, in compacted vectors.
     pub recertified: u64,
     /// Pairs the tight certificate could not accept either, recomputed by the accurate stage
@@ -122,6 +126,7 @@ impl PathCounts {
         self.pairs += o.pairs;
         self.prefiltered += o.prefiltered;
         self.delegated += o.delegated;
+        self.refined += o.refined;
         self.recertified += o.recertified;
         self.compacted += o.compacted;
         self.widened += o.widened;

@@ -617,8 +617,8 @@ fn bench_as<T: peer::Peer>(text: &str, a: &BenchArgs) -> Result<ExitCode, Fail> 
         e.thread_count()
     );
     outln!(
-        "paths of one pass: prefiltered {}, delegated {}, recertified {}, compacted {}, widened to f64 {}, exact {}, uncertified {}",
-        c.prefiltered, c.delegated, c.recertified, c.compacted, c.widened, c.exact, c.uncertified
+        "paths of one pass: prefiltered {}, delegated {}, refined {}, recertified {}, compacted {}, widened to f64 {}, exact {}, uncertified {}",
+        c.prefiltered, c.delegated, c.refined, c.recertified, c.compacted, c.widened, c.exact, c.uncertified
     );
     Ok(ExitCode::SUCCESS)
 }

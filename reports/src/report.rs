@@ -487,7 +487,7 @@ fn accuracy_md(s: &Settings, seed: u64, m: &Measured) -> String {
     }
     let mut reasons: Vec<&'static str> = Vec::new();
     for &q in Query::ALL {
-        let _ = writeln!(a, "\n## {}\n\n{}\n\n| family | variant | prec | max E | p99 E | median E | max ULP | contact misses | false zeros (beyond 8uS / strict) | non-finite | point error | interval misses | width max / median | misjudged | recertified | compacted | to f64 | uncertified | bound E max / p99 / median / point |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|", q.name(), q.about());
+        let _ = writeln!(a, "\n## {}\n\n{}\n\n| family | variant | prec | max E | p99 E | median E | max ULP | contact misses | false zeros (beyond 8uS / strict) | non-finite | point error | interval misses | width max / median | misjudged | refined | recertified | compacted | to f64 | uncertified | bound E max / p99 / median / point |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|", q.name(), q.about());
         for f in Family::ALL {
             for r in acc.iter().filter(|r| r.query == q && r.family == f) {
                 let st = &r.stats;
@@ -498,7 +498,7 @@ fn accuracy_md(s: &Settings, seed: u64, m: &Measured) -> String {
                 let c = &st.counts;
                 let _ = writeln!(
                     a,
-                    "| {} | {} | {} | {} | {} | {} | {} | {} | {} / {} | {} | {} | {} | {} / {} | {} | {} | {} | {} | {} | {} / {} / {} / {}{} |",
+                    "| {} | {} | {} | {} | {} | {} | {} | {} | {} / {} | {} | {} | {} | {} / {} | {} | {} | {} | {} | {} | {} | {} / {} / {} / {}{} |",
                     f.name(),
                     r.variant.name(),
                     r.precision,
@@ -515,6 +515,7 @@ fn accuracy_md(s: &Settings, seed: u64, m: &Measured) -> String {
                     fmt(st.max_width),
                     fmt(st.median_width),
                     st.misjudged,
+                    pct(c.refined, c.pairs),
                     pct(c.recertified, c.pairs),
                     pct(c.compacted, c.pairs),
                     pct(c.widened, c.pairs),
@@ -608,7 +609,7 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
     for lib in Lib::ALL.iter().filter(|l| !l.available()) {
         let _ = writeln!(t, "- {} not measured: {}", lib.name(), lib.missing_reason());
     }
-    let _ = writeln!(t, "\n## Where the pairs go ({bn}, default tolerance)\n\nThe certified pipeline: a fast stage answers every pair with an interval; pairs whose interval is wider than the tolerance are re-certified with the tight certificate, then recomputed by the accurate stage in compacted full vectors, then (f32) in f64 from the exactly widened input. Intersection and within-margin first run a cheap test and hand the undecided pairs on (delegated). Percent of the pairs of one pass.\n\n| workload | query | prec | pairs | prefiltered | delegated | recertified | compacted | to f64 | exact | uncertified |\n|---|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(t, "\n## Where the pairs go ({bn}, default tolerance)\n\nThe certified pipeline: a fast stage answers every pair with an interval (for triangle-triangle distance a quick stage on one edge pair per triangle pair, then, for the pairs it leaves open, gathered into full vectors, the full fast stage on all fifteen candidates: refined); pairs whose interval is wider than the tolerance are re-certified with the tight certificate, then recomputed by the accurate stage in compacted full vectors, then (f32) in f64 from the exactly widened input. Intersection and within-margin first run a cheap test and hand the undecided pairs on (delegated). Percent of the pairs of one pass.\n\n| workload | query | prec | pairs | prefiltered | delegated | refined | recertified | compacted | to f64 | exact | uncertified |\n|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &(id, title) in &m.workloads {
         for r in thr.iter().filter(|r| {
             r.workload == id && r.implementation == bn && r.threads == 1 && r.tolerance == "default"
@@ -616,12 +617,13 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
             let c = &r.counts;
             let _ = writeln!(
                 t,
-                "| {title} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {title} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 r.query,
                 r.precision,
                 c.pairs,
                 pct(c.prefiltered, c.pairs),
                 pct(c.delegated, c.pairs),
+                pct(c.refined, c.pairs),
                 pct(c.recertified, c.pairs),
                 pct(c.compacted, c.pairs),
                 pct(c.widened, c.pairs),
@@ -630,7 +632,7 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
             );
         }
     }
-    let _ = writeln!(t, "\n## The tolerance knob (triangle-triangle, {bn})\n\n`Engine::tolerance`: a pair is done when its certified interval is at most the tolerance wide (`exact`: only exact intervals; `scaled:K`: K u S; `default`: {} u S; `abs:X`: X in the input's units). Tighter tolerances send more pairs down the slower stages; the accuracy report gives the widths actually reached.\n\n| workload | prec | tolerance | Mq/s | recertified | compacted | to f64 | uncertified |\n|---|---|---|---|---|---|---|---|", Tolerance::DEFAULT.scaled);
+    let _ = writeln!(t, "\n## The tolerance knob (triangle-triangle, {bn})\n\n`Engine::tolerance`: a pair is done when its certified interval is at most the tolerance wide (`exact`: only exact intervals; `scaled:K`: K u S; `default`: {} u S; `abs:X`: X in the input's units). Tighter tolerances send more pairs down the slower stages; the accuracy report gives the widths actually reached.\n\n| workload | prec | tolerance | Mq/s | refined | recertified | compacted | to f64 | uncertified |\n|---|---|---|---|---|---|---|---|---|", Tolerance::DEFAULT.scaled);
     for &(id, title) in &m.workloads {
         for p in ["f32", "f64"] {
             for (name, _) in TOLERANCES {
@@ -647,8 +649,9 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
                 let c = &r.counts;
                 let _ = writeln!(
                     t,
-                    "| {title} | {p} | {name} | {:.2} | {} | {} | {} | {} |",
+                    "| {title} | {p} | {name} | {:.2} | {} | {} | {} | {} | {} |",
                     r.qps / 1e6,
+                    pct(c.refined, c.pairs),
                     pct(c.recertified, c.pairs),
                     pct(c.compacted, c.pairs),
                     pct(c.widened, c.pairs),

@@ -7,7 +7,7 @@ use std::path::Path;
 use tridist::PathCounts;
 
 /// The CSV header, in order.
-pub const HEADER: [&str; 15] = [
+pub const HEADER: [&str; 16] = [
     "workload",
     "query",
     "implementation",
@@ -18,6 +18,7 @@ pub const HEADER: [&str; 15] = [
     "pairs",
     "prefiltered",
     "delegated",
+    "refined",
     "recertified",
     "compacted",
     "widened",
@@ -64,6 +65,7 @@ impl TRow {
                 c.pairs,
                 c.prefiltered,
                 c.delegated,
+                c.refined,
                 c.recertified,
                 c.compacted,
                 c.widened,
@@ -124,11 +126,12 @@ pub fn read(path: &Path) -> Result<Vec<TRow>, String> {
                 pairs: num(7)?,
                 prefiltered: num(8)?,
                 delegated: num(9)?,
-                recertified: num(10)?,
-                compacted: num(11)?,
-                widened: num(12)?,
-                exact: num(13)?,
-                uncertified: num(14)?,
+                refined: num(10)?,
+                recertified: num(11)?,
+                compacted: num(12)?,
+                widened: num(13)?,
+                exact: num(14)?,
+                uncertified: num(15)?,
             },
         });
     }
@@ -152,7 +155,7 @@ mod tests {
             threads: 2,
             tolerance: "default".into(),
             qps: 12345.0,
-            counts: PathCounts { pairs: 10, compacted: 3, ..PathCounts::default() },
+            counts: PathCounts { pairs: 10, refined: 5, compacted: 3, ..PathCounts::default() },
         }];
         write(&p, &rows).unwrap();
         assert_eq!(read(&p).unwrap(), rows);
@@ -161,7 +164,7 @@ mod tests {
         let mut bad = std::fs::read_to_string(dir.join("t.csv")).unwrap_or_default();
         bad.clear();
         bad.push_str(&HEADER.join(","));
-        bad.push_str("\nw,q,i,f32,one,default,1,1,0,0,0,0,0,0,0\n");
+        bad.push_str("\nw,q,i,f32,one,default,1,1,0,0,0,0,0,0,0,0\n");
         std::fs::write(&p, bad).unwrap();
         let e = read(&p).unwrap_err();
         assert!(e.contains(":2: threads"), "{e}");

@@ -194,8 +194,8 @@ fn bench_times_every_kernel_and_a_peer() {
 fn advise_reads_the_csv_and_picks_a_variant() {
     let dir = tmp("advise");
     let csv = dir.join("t.csv");
-    let head = "workload,query,implementation,precision,threads,tolerance,queries_per_second,pairs,prefiltered,delegated,recertified,compacted,widened,exact,uncertified\n";
-    std::fs::write(&csv, format!("{head}random,tri_tri,scalar,f64,1,default,100,1,0,0,0,0,0,0,0\nrandom,tri_tri,scalar,f32,1,default,200,1,0,0,0,0,0,0,0\n")).unwrap();
+    let head = "workload,query,implementation,precision,threads,tolerance,queries_per_second,pairs,prefiltered,delegated,refined,recertified,compacted,widened,exact,uncertified\n";
+    std::fs::write(&csv, format!("{head}random,tri_tri,scalar,f64,1,default,100,1,0,0,0,0,0,0,0,0\nrandom,tri_tri,scalar,f32,1,default,200,1,0,0,0,0,0,0,0,0\n")).unwrap();
     // f32: 8 * 2^-24 * 1e3 = 4.8e-4 > 1e-6; f64 meets it
     let (code, out, _) =
         tridist(&["advise", "--scale", "1e3", "--tolerance", "1e-6", "--csv", csv.to_str().unwrap()], "");
@@ -322,12 +322,12 @@ fn a_small_report_writes_parseable_files() {
         assert!(c[6].ends_with('x') && c[7].ends_with('x'), "{c:?}");
     }
     let mut r = csv::Reader::from_path(dir.join("throughput.csv")).unwrap();
-    assert_eq!(r.headers().unwrap().len(), 15);
+    assert_eq!(r.headers().unwrap().len(), 16);
     let rows: Vec<csv::StringRecord> = r.records().map(|x| x.unwrap()).collect();
     for q in tridist::Query::ALL {
         assert!(rows.iter().any(|x| &x[1] == q.name()), "{}", q.name());
     }
-    assert!(rows.iter().all(|x| x.len() == 15 && x[6].parse::<f64>().unwrap() > 0.0));
+    assert!(rows.iter().all(|x| x.len() == 16 && x[6].parse::<f64>().unwrap() > 0.0));
     for f in ["tradeoff.svg", "magnitude.svg", "offset.svg", "penalty.svg"] {
         let t = std::fs::read_to_string(dir.join(f)).unwrap();
         assert!(t.starts_with("<svg") && t.trim_end().ends_with("</svg>"), "{f}");

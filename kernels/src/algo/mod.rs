@@ -107,12 +107,14 @@ pub(crate) struct PenaltyParams<S> {
     pub start: [S; 4],
 }
 
-/// One query's algorithm, as the batch driver runs it. Stage 0 runs on every pair; when
-/// `STAGES == 2`, stage 1 runs on the pairs stage 0 did not accept, gathered into full vectors
-/// (lane compaction); before that, when `RECERT`, stage 0's own answer is re-certified with the
-/// tight certificate (the answer is usually right, only its first interval too wide). Pairs
-/// still not accepted are handed to the full pipeline of the `NEXT` query (same precision), or
-/// else re-run in f64 (`WIDEN`, f32 input only).
+/// One query's algorithm, as the batch driver runs it. Stage 0 runs on every pair. When
+/// `STAGES == 3` (triangle-triangle distance), stage 0 is a quick stage on a few candidates,
+/// stage 1 the full fast stage on the pairs stage 0 did not accept, gathered into full vectors
+/// (lane compaction), and stage 2 the accurate stage on the pairs stage 1 did not accept,
+/// gathered likewise; before the accurate stage, when `RECERT`, the previous stage's own answer
+/// is re-certified with the tight certificate (the answer is usually right, only its first
+/// interval too wide). Pairs still not accepted are handed to the full pipeline of the `NEXT`
+/// query (same precision), or else re-run in f64 (`WIDEN`, f32 input only).
 pub(crate) trait Kernel {
     /// Points per primitive of each side (1 point, 2 segment, 3 triangle).
     const KA: usize;

@@ -7,7 +7,7 @@
 //! pairs whose certificate was too wide, gathered into full vectors, and the brute-force kernel
 //! ([`super::brute`]) on the pairs this stage leaves undecided or too wide.
 
-use super::fast::tri_tri_fast;
+use super::fast::{tri_tri_fast, tri_tri_quick};
 use super::point_tri::point_triangle;
 use super::seg_seg::seg_seg;
 use super::{conclude, edges, finish, keep_min, scale_pair, swap, Kernel, Out, Params, Res, SelectExt};
@@ -20,18 +20,22 @@ pub(crate) struct TriTri;
 impl Kernel for TriTri {
     const KA: usize = 3;
     const KB: usize = 3;
-    const STAGES: u8 = 2;
+    const STAGES: u8 = 3;
     const NEXT: Option<Query> = Some(Query::TriTriBrute);
     #[inline(always)]
     fn stage<L: Lanes, const ST: u8>(a: &[V3<L>; 3], b: &[V3<L>; 3], prm: &Params<L::S>) -> Out<L> {
         let (sc, s, t) = scale_pair::<L, 3, 3>(a, b);
-        if ST == 0 {
+        if ST < 2 {
+            // the quick stage (3 candidates), then, on the pairs it leaves open, the full fast
+            // stage (all 15 and contact), in the same local frame
             let o = s[0];
             let k = Cx::of(o.x);
             let ls = [k.v0(), s[1].sub(o), s[2].sub(o)];
             let lt = [t[0].sub(o), t[1].sub(o), t[2].sub(o)];
-            let f = tri_tri_fast(&ls, &lt);
-            conclude(&sc, f.lo, f.hi, Some(o), f.r, prm)
+            let f = if ST == 0 { tri_tri_quick(&ls, &lt) } else { tri_tri_fast(&ls, &lt) };
+            let mut out = conclude(&sc, f.lo, f.hi, Some(o), f.r, prm);
+            out.ok = out.ok.and(f.sharp.or(sc.finite.not()));
+            out
         } else {
             let (r, undecided) = tri_tri_pqp(&s, &t);
             // (only pairs the fast stage could not certify reach here: certify tightly)
