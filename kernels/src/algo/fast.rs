@@ -130,8 +130,8 @@ pub(crate) fn tri_tri_fast<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut<
     }
     // Vertex-face: accurate normals from the best-conditioned edge pairs, inside tests
     // g_m . (x - a_m) >= 0 with g_m = n x e_m (their values are barycentric weights times |n|^2).
-    let (na, ok_a, inn_a) = face(&e);
-    let (nb, ok_b, inn_b) = face(&f);
+    let (na, ok_a, inn_a, thin_a) = face(&e);
+    let (nb, ok_b, inn_b, thin_b) = face(&f);
     // heights over the other's plane (times |n|) and inside values, per vertex:
     // g_m . (x - a_m) = g_m . x - g_m . a_m
     let mut h_b = [z; 3];
@@ -186,7 +186,7 @@ pub(crate) fn tri_tri_fast<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut<
         best.c = L::select(hit, cc, best.c);
         best.code = L::select(hit, code, best.code);
     }
-    certified(s, t, &e, &f, (na, nb), &best, (inn_a, inn_b))
+    certified(s, t, &e, &f, (na, nb), &best, (inn_a, inn_b), (thin_a, thin_b))
 }
 
 /// A vertex `x` of `t` over the face of `s` (`s[0] = 0`): its squared distance to the point
@@ -287,14 +287,20 @@ fn extreme<L: Lanes>(x: [L; 3], min: bool) -> (L::M, L::M) {
 }
 
 /// A triangle's normal from its edges `e` (accurately rounded from the best-conditioned pair),
-/// whether it is above the rounding noise (not degenerate), and `1 / |n|^2`.
+/// whether it is above the rounding noise (not degenerate), `1 / |n|^2`, and whether the
+/// triangle is thin (its barycentric weights then err by far more than `u`).
 #[inline(always)]
-fn face<L: Lanes>(e: &[V3<L>; 3]) -> (V3<L>, L::M, L) {
+fn face<L: Lanes>(e: &[V3<L>; 3]) -> (V3<L>, L::M, L, L::M) {
     let k = Cx::of(e[0].x);
     let (p, q) = normal_pair(e);
     let n = p.cross_accurate(q);
     let ok = n.norm_inf().gt(p.norm_inf().mul(q.norm_inf()).mul(k.u().mul(k.c(16.0))));
-    (n, ok, k.one().div(n.norm2().max(k.splat(L::S::MIN_POSITIVE))))
+    // thin: twice its area below an eighth of its longest edge squared (the barycentric
+    // weights' rounding is amplified by that ratio)
+    let l2 = e[0].norm2().max(e[1].norm2()).max(e[2].norm2());
+    let nn = n.norm2();
+    let thin = nn.mul(k.c(64.0)).lt(l2.mul(l2));
+    (n, ok, k.one().div(nn.max(k.splat(L::S::MIN_POSITIVE))), thin)
 }
 
 /// Squared distance and parameters `(s, t)` of the closest points of the edges `a + s e` and
@@ -325,10 +331,11 @@ fn certified<L: Lanes>(
     (na, nb): (V3<L>, V3<L>),
     best: &Best<L>,
     inn: (L, L),
+    thin: (L::M, L::M),
 ) -> FastOut<L> {
-    let (p, q, w, v, over) = rebuild(s, t, e, f, na, nb, best, inn);
+    let (d, p, q, w, v, over) = rebuild(s, t, e, f, na, nb, best, inn, thin);
     let (lo, hi, _) = interval(s, t, w, v, over);
-    FastOut { r: Res { d: best.d, p, q }, lo, hi, sharp: Cx::of(lo).yes() }
+    FastOut { r: Res { d, p, q }, lo, hi, sharp: Cx::of(lo).yes() }
 }
 
 /// The certificate of a candidate with witness difference `w` (of parametric points on the
@@ -358,8 +365,9 @@ fn interval<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], w: V3<L>, v: V3<L>, over: 
     (lo, hi, excess)
 }
 
-/// Rebuilds the winner of every lane from its code and parameters: the answer's points on `s`
-/// and `t`, the witness difference `w = q - p` (of parametric points), the certification
+/// Rebuilds the winner of every lane from its code and parameters: the answer's squared
+/// distance and points on `s` and `t`, the witness difference `w = q - p` (of parametric
+/// points), the certification
 /// direction (the common normal of two edges met in their interiors, a face normal, or `w`)
 /// and the parameters' overshoot.
 #[inline(always)]
@@ -373,7 +381,8 @@ fn rebuild<L: Lanes>(
     nb: V3<L>,
     best: &Best<L>,
     inn: (L, L),
-) -> (V3<L>, V3<L>, V3<L>, V3<L>, L) {
+    thin: (L::M, L::M),
+) -> (L, V3<L>, V3<L>, V3<L>, V3<L>, L) {
     let k = Cx::of(best.d);
     let c = best.code;
     let (ee, vfa, vfb, cta) = (c.lt(k.c(9.0)), c.lt(k.c(12.0)), c.lt(k.c(15.0)), c.lt(k.c(18.0)));
@@ -413,6 +422,23 @@ fn rebuild<L: Lanes>(
     } else {
         (p, q)
     };
+    // Likewise a vertex over a thin face is answered with its projection along the accurate
+    // normal and its height over the plane: the parametric face point's barycentric weights
+    // err by about u |e| |x| / |n| of the face, which near a vertex of a long thin face came
+    // to 40 u S (fuzzing: a point 1e-4 from a sliver's vertex, inside it, answered 1.2e-4
+    // away). (On well-shaped faces both are as accurate; the parametric point is kept.)
+    let (sa, sb) = (vfa.and(thin.0), vfb.and(thin.1));
+    let vf = sa.or(sb);
+    let (d_out, p_out, q_out) = if vf.any() {
+        let ha = na.dot(q_va);
+        let hb = nb.dot(p_vb.sub(t[0]));
+        let d = L::select(sa, ha.mul(ha).mul(inn.0), L::select(sb, hb.mul(hb).mul(inn.1), best.d));
+        let pa = q_va.sub(na.scale(ha.mul(inn.0)));
+        let qb = p_vb.sub(nb.scale(hb.mul(inn.1)));
+        (d, V3::select(sa, pa, p_out), V3::select(sb, qb, q_out))
+    } else {
+        (best.d, p_out, q_out)
+    };
     // direction
     let both = ee.and(interior(a)).and(interior(b));
     let n = pick(i1, i2, e).cross_accurate(pick(j1, j2, f));
@@ -421,7 +447,7 @@ fn rebuild<L: Lanes>(
     let v = v.unit_pow2();
     let v = V3::select(both.or(vfa).or(vfb), V3::select(v.dot(w).lt(k.zero()), v.neg(), v), w.unit_pow2());
     let over = L::select(ee, k.zero(), overshoot(a, b));
-    (p_out, q_out, w, v, over)
+    (d_out, p_out, q_out, w, v, over)
 }
 
 /// Parameter of the crossing of an edge whose ends are at heights `h0`, `h1` over a plane,
