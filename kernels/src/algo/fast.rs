@@ -323,6 +323,7 @@ fn edge_pair<L: Lanes>(a: V3<L>, e: V3<L>, iea: L, b: V3<L>, f: V3<L>, ifb: L) -
 /// The answer of every lane rebuilt from its best candidate, and its certificate (static
 /// bounds on the local extent `R`; see the constants).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn certified<L: Lanes>(
     s: &[V3<L>; 3],
     t: &[V3<L>; 3],
