@@ -140,13 +140,13 @@ impl<'a, T: Real> Src<'a, T> {
         match *self {
             Src::Soa { data, cap, base, .. } => {
                 for (j, c) in coord.iter_mut().enumerate().take(3 * k) {
-                    *c = L::gather(kk, &data[j * cap + base..], &at);
+                    *c = gather_col::<L>(kk, &data[j * cap + base..], &at);
                 }
             }
             Src::Aos { flat, .. } => {
                 let at = at.map(|i| i * 3 * k);
                 for (j, c) in coord.iter_mut().enumerate().take(3 * k) {
-                    *c = L::gather(kk, &flat[j..], &at);
+                    *c = gather_col::<L>(kk, &flat[j..], &at);
                 }
             }
             Src::One { flat, .. } => {
@@ -157,6 +157,18 @@ impl<'a, T: Real> Src<'a, T> {
         }
         to_points(&coord, k)
     }
+}
+
+/// `col[at[l]]` in lane `l` (panics when an index is out of bounds): lane compaction. (AVX2's
+/// hardware gather was tried for the 256-bit types: it halved the compacted stage's
+/// throughput on the AMD EPYC reference machine, `spin tri_tri random f32 avx2fma 2`.)
+#[inline(always)]
+fn gather_col<L: Lanes>(kk: L::K, col: &[L::S], at: &[usize; 8]) -> L {
+    let mut buf = [L::S::ZERO; 8];
+    for (slot, &i) in buf.iter_mut().zip(at).take(L::N) {
+        *slot = col[i];
+    }
+    L::load(kk, &buf)
 }
 
 #[inline(always)]

@@ -71,17 +71,6 @@ pub(crate) trait Lanes: Copy {
     fn select(m: Self::M, t: Self, f: Self) -> Self;
     /// Keeps only the exponent bits: the largest power of two not above a positive normal value.
     fn exponent(self) -> Self;
-    /// `col[at[l]]` in lane `l` (panics when an index is out of bounds): the driver's lane
-    /// compaction. (AVX2's hardware gather was tried for the 256-bit types: it halved the
-    /// compacted stage's throughput on the AMD EPYC reference machine, `spin tri_tri random`.)
-    #[inline(always)]
-    fn gather(k: Self::K, col: &[Self::S], at: &[usize; 8]) -> Self {
-        let mut buf = [<Self::S as Real>::ZERO; 8];
-        for (slot, &i) in buf.iter_mut().zip(at).take(Self::N) {
-            *slot = col[i];
-        }
-        Self::load(k, &buf)
-    }
 
     #[inline(always)]
     fn gt(self, o: Self) -> Self::M {

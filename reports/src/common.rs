@@ -127,3 +127,9 @@ macro_rules! outln {
     () => { $crate::common::emit(format_args!("\n")) };
     ($($t:tt)*) => { $crate::common::emit(format_args!("{}\n", format_args!($($t)*))) };
 }
+
+/// The median of a few alternated rounds' figures (the middle one of an odd count).
+pub fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}

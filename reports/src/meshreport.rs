@@ -231,7 +231,7 @@ fn rows<T: Peer + Real>(
                 ));
             }
         }
-        let (t_c, t_c2) = (median3(t1), median3(t2));
+        let (t_c, t_c2) = (crate::common::median(t1), crate::common::median(t2));
         let mut parry_d = f64::NAN;
         let parry_t_d = median_time(|| parry_d = T::mesh_distance(&pa, &peer_id, &pb, &pp), budget);
         let mut parry_hit = None;
@@ -273,12 +273,6 @@ struct Built {
 }
 
 /// Milliseconds, or "-" for a peer not measured (NaN).
-/// The middle one of three times.
-fn median3(mut t: Vec<f64>) -> f64 {
-    t.sort_by(f64::total_cmp);
-    t[t.len() / 2]
-}
-
 fn ms(s: f64) -> String {
     if s.is_nan() {
         "-".into()

@@ -91,10 +91,7 @@ fn threads_alternated<T: Peer>(w: &Workload<T>, e: Engine, budget: std::time::Du
         r[1].push(measure(w, Query::TriTri, best(), Some(e.threads(2)), budget)?.ok()?.qps);
         r[2].push(apart(w, e.threads(1), budget)?);
     }
-    Some(r.map(|mut v| {
-        v.sort_by(f64::total_cmp);
-        v[1]
-    }))
+    Some(r.map(crate::common::median))
 }
 
 /// Queries/s of two threads each answering the whole batch over and over on `e` for `budget`,

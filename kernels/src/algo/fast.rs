@@ -22,8 +22,9 @@
 //! between their centroids, with the same arithmetic and certificate, accepted only when the
 //! candidate is the closest pair as far as the arithmetic can tell. On nearby triangles of a
 //! mesh it answers nearly every pair (99.2 % of the Armadillo's nearby pairs) with 139.5
-//! instructions per pair where this stage alone took 350.7 (callgrind, `spin tri_tri
-//! arm_nearby f32 avx2fma 0.5`, the entry point only); the pairs it leaves open (three
+//! instructions per pair where this stage alone took 350.7 (callgrind with
+//! `--toggle-collect='*TriTri::run*'` on `spin tri_tri arm_nearby f32 avx2fma 0.5`, at
+//! eaee2b6 and its parent); the pairs it leaves open (three
 //! quarters of random unit-cube pairs: a quarter intersect, and the front edges are not the
 //! closest pair of half the others) are gathered into full vectors and answered here (random
 //! pairs: 486.0 instructions per pair instead of 365.4).

@@ -26,8 +26,8 @@ impl Kernel for TriTri {
     fn stage<L: Lanes, const ST: u8>(a: &[V3<L>; 3], b: &[V3<L>; 3], prm: &Params<L::S>) -> Out<L> {
         let (sc, s, t) = scale_pair::<L, 3, 3>(a, b);
         if ST < 2 {
-            // the quick stage (3 candidates), then, on the pairs it leaves open, the full fast
-            // stage (all 15 and contact), in the same local frame
+            // the quick stage (one edge pair), then, on the pairs it leaves open, the full fast
+            // stage (all 15 candidates and contact), in the same local frame
             let o = s[0];
             let k = Cx::of(o.x);
             let ls = [k.v0(), s[1].sub(o), s[2].sub(o)];
