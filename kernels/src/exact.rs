@@ -5,7 +5,7 @@
 
 use tridist_oracle::{exact_point, point_triangle, round, segment_segment, triangle_triangle, P3};
 
-use crate::real::{sealed::Sealed, Precision, Real};
+use crate::real::{Precision, Real};
 use crate::types::Point;
 
 /// One exact answer, rounded to `T`.
