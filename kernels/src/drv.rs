@@ -505,9 +505,9 @@ fn recert<L: Lanes, K: Kernel>(
         }
         let (d, p, q) = (v[0], V3::new(v[1], v[2], v[3]), V3::new(v[4], v[5], v[6]));
         let o = match (K::KA, K::KB) {
-            (2, 2) => crate::algo::recertify::<L, 2, 2>(&a, &b, d, p, q, &job.prm),
-            (1, 3) => crate::algo::recertify::<L, 1, 3>(&a, &b, d, p, q, &job.prm),
-            _ => crate::algo::recertify::<L, 3, 3>(&a, &b, d, p, q, &job.prm),
+            (2, 2) => crate::algo::recertify::<L, 2, 2>(&a, &b, d, p, q, &job.prm, K::SHARP),
+            (1, 3) => crate::algo::recertify::<L, 1, 3>(&a, &b, d, p, q, &job.prm, K::SHARP),
+            _ => crate::algo::recertify::<L, 3, 3>(&a, &b, d, p, q, &job.prm, K::SHARP),
         };
         write::<L>(job, &o, part, still, false);
     }

@@ -86,6 +86,13 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 ///   last stage available: the exact oracle with the feature, else it stays uncertified with
 ///   its tightest interval (f64 for f32 input).
 ///
+/// The tolerance is what is guaranteed, not what is aimed at: triangle-triangle distance
+/// accepts an answer before its last stage (brute force) only when it is also *sharp*, its
+/// distance within about `u S` of its quick or full fast stage's gap, or its tight interval no
+/// wider than `8 u S` plus the certificate's own `12 u d` slack, so that a wrong pair of points
+/// that happens to lie within a loose tolerance still goes on to the accurate stages
+/// (ACCURACY.md's measured error is far below the default tolerance).
+///
 /// The penalty method is never escalated (the caller chose an approximation): its interval
 /// says how far off it is.
 #[derive(Clone, Copy, Debug, PartialEq)]

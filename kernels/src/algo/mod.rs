@@ -125,6 +125,11 @@ pub(crate) trait Kernel {
     /// Is stage 0's answer a distance with closest points, worth re-certifying tightly before
     /// anything is recomputed?
     const RECERT: bool = true;
+    /// Must a tightly certified answer also be sharp ([`sharp_tight`]) to be accepted? (For a
+    /// query whose later stages can do better; the last stage of a pipeline accepts on the
+    /// tolerance alone, so that "uncertified" keeps meaning "interval wider than the
+    /// tolerance".)
+    const SHARP: bool = false;
     /// Runs stage `ST` on raw (unscaled) input.
     fn stage<L: Lanes, const ST: u8>(a: &[V3<L>; 3], b: &[V3<L>; 3], prm: &Params<L::S>) -> Out<L>;
 }
@@ -259,6 +264,7 @@ pub(crate) fn recertify<L: Lanes, const KA: usize, const KB: usize>(
     p: V3<L>,
     q: V3<L>,
     prm: &Params<L::S>,
+    sharp: bool,
 ) -> Out<L> {
     let (sc, s, t) = scale_pair::<L, KA, KB>(a, b);
     let k = Cx::of(d);
@@ -267,7 +273,35 @@ pub(crate) fn recertify<L: Lanes, const KA: usize, const KB: usize>(
     // An answer whose square overflowed in the caller's units (documented +inf) is the
     // witness's own squared distance here.
     let d = L::select(d.le(k.splat(L::S::MAX)), d.mul(inv).mul(inv), p.sub(q).norm2());
-    finish::<L, KA, KB, true>(&sc, &s, &t, None, Res { d, p, q }, prm)
+    let mut out = finish::<L, KA, KB, true>(&sc, &s, &t, None, Res { d, p, q }, prm);
+    if sharp {
+        out.ok = out.ok.and(sharp_tight(&sc, &out));
+    }
+    out
+}
+
+/// Relative slack of the tight certificate ([`cert::certify_tight`]: `|W|` rounded up by 4u,
+/// the gap down by about 7.5u), rounded up: the width of the tight interval around an exact
+/// answer, in units of `u` times the distance.
+const TIGHT_REL: f64 = 12.0;
+/// How far (in units of `u S`) a tightly certified answer may be from the lower end of its
+/// interval, beyond the certificate's own slack, and still be called sharp: the E target of
+/// ACCURACY.md.
+const SHARP_TIGHT: f64 = 8.0;
+
+/// Is the tightly certified answer in `out` (unscaled) sharp: its interval no wider than
+/// `SHARP_TIGHT u S` plus the certificate's own slack? The interval bounds the answer's error,
+/// so a sharp answer has `E <= SHARP_TIGHT + TIGHT_REL d / S`. A wider interval within the
+/// tolerance means the algorithm answered a pair of points that is not the closest one (a
+/// missed candidate: f32, a point over a long sliver whose inside tests failed by rounding,
+/// answered 49 u S too far under the 64 u S default tolerance; found by `cargo fuzz run
+/// tri_tri`): such a pair goes on to the accurate stage instead. Non-finite lanes are sharp
+/// (nothing to improve).
+#[inline(always)]
+pub(crate) fn sharp_tight<L: Lanes>(sc: &Scaled<L, 6>, out: &Out<L>) -> L::M {
+    let k = Cx::of(out.lo);
+    let allowed = k.u().mul(k.c(SHARP_TIGHT).mul(sc.m).add(k.c(TIGHT_REL).mul(out.hi)));
+    out.hi.sub(out.lo).gt(allowed).not().or(sc.finite.not())
 }
 
 /// Is the certified width `hi - lo` (prescaled) within the tolerance? `!(width > tol)`, so NaN

@@ -10,7 +10,7 @@
 use super::fast::{tri_tri_fast, tri_tri_quick};
 use super::point_tri::point_triangle;
 use super::seg_seg::seg_seg;
-use super::{conclude, edges, finish, keep_min, scale_pair, swap, Kernel, Out, Params, Res, SelectExt};
+use super::{conclude, edges, finish, keep_min, scale_pair, sharp_tight, swap, Kernel, Out, Params, Res, SelectExt};
 use crate::lanes::{Cx, Lanes, Mask, V3};
 use crate::Query;
 
@@ -22,6 +22,7 @@ impl Kernel for TriTri {
     const KB: usize = 3;
     const STAGES: u8 = 3;
     const NEXT: Option<Query> = Some(Query::TriTriBrute);
+    const SHARP: bool = true;
     #[inline(always)]
     fn stage<L: Lanes, const ST: u8>(a: &[V3<L>; 3], b: &[V3<L>; 3], prm: &Params<L::S>) -> Out<L> {
         let (sc, s, t) = scale_pair::<L, 3, 3>(a, b);
@@ -40,7 +41,7 @@ impl Kernel for TriTri {
             let (r, undecided) = tri_tri_pqp(&s, &t);
             // (only pairs the fast stage could not certify reach here: certify tightly)
             let mut out = finish::<L, 3, 3, true>(&sc, &s, &t, None, r, prm);
-            out.ok = out.ok.andnot(undecided);
+            out.ok = out.ok.andnot(undecided).and(sharp_tight(&sc, &out));
             out
         }
     }
