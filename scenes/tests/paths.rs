@@ -36,9 +36,12 @@ fn beyond(c: &PathCounts) -> u64 {
 // nearby pairs (0.8 %) to the full fast stage, 1471-1500 random pairs (74-75 %: a quarter
 // intersect, and the front edges are not the closest pair of about half the others) and
 // 1396-1419 (f32) / 830-855 (f64) near-parallel pairs (70-71 % / 42-43 %); after the full fast
-// stage random pairs at most 4 re-certified, 2 recomputed and 1 widened (f32), the
-// Armadillo's none, the near-parallel family 28.6 % (f32) and 8.4 % (f64) re-certified and
-// none recomputed. The bounds leave a small margin.
+// stage random pairs at most 23 re-certified, 2 recomputed and 1 widened (f32; 1.3 % in all),
+// the Armadillo's none, the near-parallel family 36.3 % (f32) and 10.5 % (f64) re-certified
+// and none recomputed. (Before the full stage's answers had to be sharp, c47659d's successor:
+// random 4 re-certified, near-parallel 28.6 % / 8.4 %: the rule sends the answers whose own
+// arithmetic leaves them more than 8 u from their gap to the tight certificate, which accepts
+// nearly all of them.) The bounds leave a small margin.
 #[test]
 fn the_fast_stage_certifies_generic_pairs() {
     for (name, pairs) in workloads() {
@@ -52,7 +55,7 @@ fn the_fast_stage_certifies_generic_pairs() {
                 match name {
                     "random" => {
                         assert!(c.refined * 100 <= 80 * n, "{at}");
-                        assert!(beyond(&c) * 200 <= n, "{at}");
+                        assert!(beyond(&c) * 1000 <= 15 * n, "{at}");
                     }
                     "arm_nearby" => {
                         // the quick stage's front edges answer nearby mesh triangles
@@ -62,7 +65,7 @@ fn the_fast_stage_certifies_generic_pairs() {
                     _ => {
                         // nearly parallel edges need the tight certificate, not the accurate stage
                         assert!((c.compacted + c.widened) * 400 <= n, "{at}");
-                        let (refined, recert) = if prec == "f32" { (76, 36) } else { (48, 10) };
+                        let (refined, recert) = if prec == "f32" { (76, 38) } else { (48, 12) };
                         assert!(c.refined * 100 <= refined * n, "{at}");
                         assert!(c.recertified * 100 <= recert * n, "{at}");
                     }
