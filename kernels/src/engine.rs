@@ -87,9 +87,10 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 ///   its tightest interval (f64 for f32 input).
 ///
 /// The tolerance is what is guaranteed, not what is aimed at: triangle-triangle distance
-/// accepts an answer before its last stage (brute force) only when it is also *sharp*, its
-/// distance within about `u S` of its quick or full fast stage's gap, or its tight interval no
-/// wider than `8 u S` plus the certificate's own `12 u d` slack, so that a wrong pair of points
+/// accepts an answer before its last stage (brute force) only when it is also *sharp*: its
+/// distance within `u S` (quick stage) or `8 u S` (full fast stage) of the gap along its
+/// direction, or a contact, or its tight interval (re-certification, accurate stage) no wider
+/// than `8 u S` plus the certificate's own `12 u d` slack, so that a wrong pair of points
 /// that happens to lie within a loose tolerance still goes on to the accurate stages
 /// (ACCURACY.md's measured error is far below the default tolerance).
 ///
