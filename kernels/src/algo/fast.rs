@@ -278,7 +278,7 @@ pub(crate) fn tri_tri_quick<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut
 /// from the gap along its direction.
 const SHARP: f64 = 1.0;
 /// The same for the full stage's answer: the E target of ACCURACY.md. (Its correct answers
-/// come within this of their gap: random unit-cube pairs, 2000 per variant, 13-16 re-certified
+/// come within this of their gap: random unit-cube pairs, 2000 per variant, 11-23 re-certified
 /// at 8 u, 318 at 1 u; `scenes/tests/paths.rs`.)
 const SHARP_FULL: f64 = 8.0;
 
