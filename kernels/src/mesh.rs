@@ -253,45 +253,59 @@ impl<T: Real> Mesh<T> {
             return;
         }
         let verts: Vec<[f64; 3]> = self.vertices.iter().map(|v| v.map(Real::to_f64)).collect();
-        // What the build reads of a triangle, in one place, moved with it by the splits (so
-        // each node's pass reads its triangles in order, not scattered over four arrays).
-        let mut items: Vec<Item> = (0..n)
-            .map(|i| {
-                let (lo, hi) = tri_box(&self.triangle(i));
-                let c = [0, 1, 2].map(|k| 0.5 * lo[k] + 0.5 * hi[k]);
-                Item { lo, hi, c, v: self.triangles[i], tri: i as u32 }
-            })
+        let boxes: Vec<Aabb> = (0..n).map(|i| tri_box(&self.triangle(i))).collect();
+        // What the splits move: a triangle's box centre and number (small, so that the median
+        // selection moves little).
+        let mut items: Vec<Item> = boxes
+            .iter()
+            .enumerate()
+            .map(|(i, (lo, hi))| Item { c: [0, 1, 2].map(|k| 0.5 * lo[k] + 0.5 * hi[k]), tri: i as u32 })
             .collect();
-        // 1. The binary tree: median splits; a node's triangles stay `items[s..e]` (later
-        // splits only permute within a node's range).
-        let mut bins = vec![Bin { lo: [0.0; 3], hi: [0.0; 3], s: 0, e: n, kids: None }];
+        // 1. The binary tree: median splits along the widest axis of the centres; a node's
+        // triangles stay `items[s..e]` (later splits only permute within a node's range).
+        // (a leaf holds at least two triangles, so there are fewer than `n` nodes)
+        let mut bins = Vec::with_capacity(n);
+        bins.push(Bin { lo: [0.0; 3], hi: [0.0; 3], s: 0, e: n, kids: None });
         let mut todo = vec![(0usize, 0usize, n)];
         while let Some((id, s, e)) = todo.pop() {
-            let mut lo = [f64::INFINITY; 3];
-            let mut hi = [f64::NEG_INFINITY; 3];
-            let (mut clo, mut chi) = (lo, hi);
+            if e - s <= LEAF {
+                continue;
+            }
+            let (mut clo, mut chi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
             for it in &items[s..e] {
                 for k in 0..3 {
-                    lo[k] = lo[k].min(it.lo[k]);
-                    hi[k] = hi[k].max(it.hi[k]);
                     clo[k] = clo[k].min(it.c[k]);
                     chi[k] = chi[k].max(it.c[k]);
                 }
-            }
-            bins[id] = Bin { lo, hi, s, e, kids: None };
-            if e - s <= LEAF {
-                continue;
             }
             let axis = (0..3).max_by(|&a, &b| (chi[a] - clo[a]).total_cmp(&(chi[b] - clo[b]))).unwrap_or(0);
             let mid = s + (e - s) / 2;
             items[s..e].select_nth_unstable_by(mid - s, |a, b| a.c[axis].total_cmp(&b.c[axis]));
             let left = bins.len();
-            bins.push(bins[id]);
-            bins.push(bins[id]);
+            bins.push(Bin { lo: [0.0; 3], hi: [0.0; 3], s, e: mid, kids: None });
+            bins.push(Bin { lo: [0.0; 3], hi: [0.0; 3], s: mid, e, kids: None });
             bins[id].kids = Some([left, left + 1]);
             todo.push((left, s, mid));
             todo.push((left + 1, mid, e));
         }
+        // The boxes bottom up (children come after their parent): a leaf's from its
+        // triangles', a node's the union of its children's.
+        for id in (0..bins.len()).rev() {
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            let mut take = |b: &Aabb| {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(b.0[k]);
+                    hi[k] = hi[k].max(b.1[k]);
+                }
+            };
+            match bins[id].kids {
+                Some(k) => k.iter().for_each(|&c| take(&(bins[c].lo, bins[c].hi))),
+                None => items[bins[id].s..bins[id].e].iter().for_each(|it| take(&boxes[it.tri as usize])),
+            }
+            (bins[id].lo, bins[id].hi) = (lo, hi);
+        }
+        // The triangles' vertices in leaf order, for the oriented boxes' pass.
+        let tv: Vec<[u32; 3]> = items.iter().map(|it| self.triangles[it.tri as usize]).collect();
         // 2. The tree of `width`: the binary tree collapsed (the same splits, so the same tree
         // quality at every width): a node's children are binary descendants, found by opening
         // the internal one of largest box area until there are `width` (or only leaves).
@@ -299,7 +313,10 @@ impl<T: Real> Mesh<T> {
             let d = [0, 1, 2].map(|k| b.hi[k] - b.lo[k]);
             d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
         };
-        let mut of = vec![0usize]; // the binary node of each node
+        // (every node is a binary node: `bins.len()` bounds their number)
+        let mut of = Vec::with_capacity(bins.len()); // the binary node of each node
+        of.push(0usize);
+        self.nodes = Vec::with_capacity(bins.len());
         self.nodes.push(Node { lo: bins[0].lo, hi: bins[0].hi, first: 0, count: 0, kids: 0 });
         let mut todo = vec![0usize];
         let mut set = Vec::with_capacity(MAX_WIDTH);
@@ -339,8 +356,8 @@ impl<T: Real> Mesh<T> {
             .map(|id| {
                 let b = &bins[of[id]];
                 pts.clear();
-                for it in &items[b.s..b.e] {
-                    for &v in &it.v {
+                for tri in &tv[b.s..b.e] {
+                    for &v in tri {
                         if seen[v as usize] != id as u32 {
                             seen[v as usize] = id as u32;
                             pts.push(verts[v as usize]);
@@ -379,12 +396,9 @@ impl<T: Real> Mesh<T> {
     }
 }
 
-/// A triangle as the tree build reads it: its box, the box's centre, its vertices and number.
+/// A triangle as the tree's splits move it: its box's centre and its number.
 struct Item {
-    lo: [f64; 3],
-    hi: [f64; 3],
     c: [f64; 3],
-    v: [u32; 3],
     tri: u32,
 }
 
@@ -421,9 +435,19 @@ fn norm1(a: &[f64; 3]) -> f64 {
 /// Only their being a well-conditioned basis matters here (the box is certified afterwards):
 /// where eigenvalues coincide any basis of their eigenspace is as good, and a matrix with no
 /// direction preferred (or NaN) gets the identity. (Cyclic Jacobi rotations, 12 sweeps to
-/// 1e-9, took about 270 ns per leaf, a quarter of the build: `spin mesh build 0 f32 1 2`.)
+/// 1e-9, took about 270 ns per leaf, a quarter of the build: `spin mesh build 0 f32 1 2`.
+/// Written as straight-line code, this and the smaller split items of `build` took the
+/// same command from 32.5 to 26.8 ms, the eigenvector's rows and longest cross product
+/// having been picked through arrays and closures before.)
 fn principal_axes(a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
     const ID: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    // Scaled to entries of order 1 (the same eigenvectors): no square below underflows or
+    // overflows, whatever the coordinates' magnitude.
+    let big = a.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    if !(big > 0.0 && big.is_finite()) {
+        return ID;
+    }
+    let a = a.map(|r| r.map(|x| x / big));
     let p1 = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
     let q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
     let d = [a[0][0] - q, a[1][1] - q, a[2][2] - q];
@@ -432,22 +456,27 @@ fn principal_axes(a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
         return ID;
     }
     let p = (p2 / 6.0).sqrt();
-    // B = (A - q I) / p, r = det(B) / 2 in [-1, 1]
+    // r = det(B) / 2 in [-1, 1] with B = (A - q I) / p
+    let ip = 1.0 / p;
     let b = [
-        [d[0] / p, a[0][1] / p, a[0][2] / p],
-        [a[0][1] / p, d[1] / p, a[1][2] / p],
-        [a[0][2] / p, a[1][2] / p, d[2] / p],
+        [d[0] * ip, a[0][1] * ip, a[0][2] * ip],
+        [a[0][1] * ip, d[1] * ip, a[1][2] * ip],
+        [a[0][2] * ip, a[1][2] * ip, d[2] * ip],
     ];
     let det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[1][2])
         - b[0][1] * (b[0][1] * b[2][2] - b[1][2] * b[0][2])
         + b[0][2] * (b[0][1] * b[1][2] - b[1][1] * b[0][2]);
     let phi = (0.5 * det).clamp(-1.0, 1.0).acos() / 3.0;
-    let l1 = q + 2.0 * p * phi.cos();
-    let l3 = q + 2.0 * p * (phi + 2.0 * std::f64::consts::FRAC_PI_3).cos();
-    let l2 = 3.0 * q - l1 - l3;
-    let (first, second) = if l1 - l2 >= l2 - l3 { (l1, l3) } else { (l3, l1) };
-    let Some(x) = eigenvector(&a, first) else { return ID };
-    let y = eigenvector(&a, second)
+    // The eigenvalues of B (trace 0; those of A are q + p m), B's eigenvectors A's, and B's
+    // entries of order 1 whatever A's scale: cos(phi + 2 pi / 3) = -cos(phi) / 2 -
+    // sin(phi) sqrt(3) / 2.
+    let (sin, cos) = phi.sin_cos();
+    let m1 = 2.0 * cos;
+    let m3 = -cos - 3f64.sqrt() * sin;
+    let m2 = -m1 - m3;
+    let (first, second) = if m1 - m2 >= m2 - m3 { (m1, m3) } else { (m3, m1) };
+    let Some(x) = eigenvector(&b, first) else { return ID };
+    let y = eigenvector(&b, second)
         .and_then(|y| {
             let c = dot(&y, &x);
             unit([y[0] - c * x[0], y[1] - c * x[1], y[2] - c * x[2]])
@@ -460,29 +489,24 @@ fn principal_axes(a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
             unit(cross(&x, &ek))
         });
     let Some(y) = y else { return ID };
-    let z = cross(&x, &y);
-    if [x, y, z].iter().flatten().all(|v| v.is_finite()) {
-        [x, y, z]
-    } else {
-        ID
-    }
+    // (finite: `unit` returns only finite unit vectors)
+    [x, y, cross(&x, &y)]
 }
 
 /// A unit eigenvector of the symmetric `a` for its eigenvalue `l`: the longest cross product
 /// of two rows of `a - l I` (they span the normal space of the eigenvector), `None` when all
 /// vanish.
 fn eigenvector(a: &[[f64; 3]; 3], l: f64) -> Option<[f64; 3]> {
-    let r = [0, 1, 2].map(|i| [0, 1, 2].map(|j| if i == j { a[i][j] - l } else { a[i][j] }));
-    let c = [cross(&r[0], &r[1]), cross(&r[0], &r[2]), cross(&r[1], &r[2])];
-    let n = c.map(|v| dot(&v, &v));
-    let k = if n[0] >= n[1] && n[0] >= n[2] {
-        0
-    } else if n[1] >= n[2] {
-        1
-    } else {
-        2
-    };
-    unit(c[k])
+    let r0 = [a[0][0] - l, a[0][1], a[0][2]];
+    let r1 = [a[1][0], a[1][1] - l, a[1][2]];
+    let r2 = [a[2][0], a[2][1], a[2][2] - l];
+    let (c0, c1, c2) = (cross(&r0, &r1), cross(&r0, &r2), cross(&r1, &r2));
+    let (n0, n1, n2) = (dot(&c0, &c0), dot(&c1, &c1), dot(&c2, &c2));
+    let (c, n) = if n0 >= n1 { (c0, n0) } else { (c1, n1) };
+    let (c, n) = if n >= n2 { (c, n) } else { (c2, n2) };
+    let n = n.sqrt();
+    let inv = 1.0 / n;
+    (n > 0.0 && n.is_finite()).then(|| c.map(|x| x * inv))
 }
 
 fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
@@ -492,7 +516,8 @@ fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
 /// `a / |a|`, or `None` for a zero or non-finite length.
 fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
     let n = dot(&a, &a).sqrt();
-    (n > 0.0 && n.is_finite()).then(|| a.map(|x| x / n))
+    let inv = 1.0 / n;
+    (n > 0.0 && n.is_finite()).then(|| a.map(|x| x * inv))
 }
 
 impl Obb {
@@ -1511,6 +1536,9 @@ mod tests {
             [2.0, 0.0, 0.0],
             [1e-20, 1e-21, 0.0],
             [7.0, 7.0, 7.0],
+            // scale-free: a cross product of rows of A - l I would underflow (or overflow)
+            [3e-200, 2e-200, 1e-200],
+            [3e100, 2e100, 1e100],
         ] {
             let a =
                 [0, 1, 2].map(|i| [0, 1, 2].map(|j| (0..3).map(|k| q[k][i] * l[k] * q[k][j]).sum::<f64>()));
@@ -1524,7 +1552,9 @@ mod tests {
                 let ax = [0, 1, 2].map(|r| dot(&a[r], x));
                 let lam = dot(&ax, x);
                 let res = [0, 1, 2].map(|r| ax[r] - lam * x[r]);
-                assert!(dot(&res, &res).sqrt() <= 1e-6 * big, "{l:?}: axis {i} {x:?} not an eigenvector");
+                // (the largest component: a sum of squares would underflow at 1e-200)
+                let res = res.iter().fold(0.0f64, |m, r| m.max(r.abs()));
+                assert!(res <= 1e-6 * big, "{l:?}: axis {i} {x:?} not an eigenvector");
             }
         }
         let nan = [[f64::NAN; 3]; 3];
