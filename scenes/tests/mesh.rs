@@ -83,6 +83,9 @@ fn threaded_contacts_and_tree_widths_give_the_same_answers() {
             let two = e.threads(2).mesh_contacts(a, &id, b, &p, m, None).unwrap();
             assert_eq!(one.len(), two.len(), "pose {k}");
             assert!(one == two, "pose {k}: threaded contacts differ");
+            // the documented order: squared distance, then triangle numbers (strictly: no pair twice)
+            let key = |c: &tridist::Contact<T>| (c.sqdist, c.tri_a, c.tri_b);
+            assert!(one.windows(2).all(|w| key(&w[0]) < key(&w[1])), "pose {k}: contacts out of order");
             assert_eq!(one.is_empty(), k == 0, "pose {k}: {} contacts", one.len());
             let d = e.mesh_distance(a, &id, b, &p).unwrap().unwrap().sqdist;
             let hit = e.mesh_intersect(a, &id, b, &p).unwrap().is_some();
