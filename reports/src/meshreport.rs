@@ -457,7 +457,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         s.budget.as_millis()
     );
     // per precision: mean distance ms of tridist and FCL, mean intersect ms of both, parry ratio
-    let mut means = Vec::new();
+    let (mut means, mut builds) = (Vec::new(), Vec::new());
     for p in ["f32", "f64"] {
         let m = if p == "f32" {
             rows::<f32>(&a, &b, s.budget, s.mesh_poses)?
@@ -471,6 +471,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
             m.fcl_build.map_or("-".to_string(), ms),
             ms(m.parry_build)
         );
+        builds.push((ms(m.build), ms(m.parry_build), m.fcl_build.map_or("-".to_string(), ms)));
         let _ = writeln!(t, "| pose (x) | distance | tridist ms | FCL ms | parry3d ms | FCL / tridist | parry3d / tridist | intersect (tridist, FCL, parry3d) | tridist ms | FCL ms | parry3d ms | contacts | contacts ms | 2 threads ms | agreement |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
         let (mut parry_ratio, mut fcl_ratio, mut worst) = (0.0, 0.0, 0.0f64);
         let (mut sum_t, mut sum_fcl, mut sum_ti, mut sum_fcl_i) = (0.0, 0.0, 0.0, 0.0);
@@ -532,7 +533,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
     widths_md(&mut t, &a, &b, s, &near.iter().map(|r| r.pose).collect::<Vec<_>>())?;
     let (m32, m64) = (means[0], means[1]);
     let summary = format!(
-        "- Mesh distance with closest points, Armadillo vs fandisk ({} poses through each other), one thread, mean per pose: tridist f32 {} ms, f64 {} ms; FCL (OBBRSS, double) {} ms: **{} (f32)** and **{} (f64)** FCL's speed; parry3d {:.1}x slower than tridist f32. Collision: tridist {} ms, FCL {} ms. Contacts within 1 % of the scene's size on two threads, at the pose with the most contacts: {} (f32) and {} (f64) one thread's speed ([reports/MESH.md](reports/MESH.md)).",
+        "- Mesh distance with closest points, Armadillo vs fandisk ({} poses through each other), one thread, mean per pose: tridist f32 {} ms, f64 {} ms; FCL (OBBRSS, double) {} ms: **{} (f32)** and **{} (f64)** FCL's speed; parry3d {:.1}x slower than tridist f32. Collision: tridist {} ms, FCL {} ms. Contacts within 1 % of the scene's size on two threads, at the pose with the most contacts: {} (f32) and {} (f64) one thread's speed. Tree build of both meshes (median of repeated builds): tridist f32 {} ms, f64 {} ms (axis-aligned and oriented boxes); parry3d f32 {} ms, f64 {} ms (axis-aligned boxes); FCL (OBBRSS) {} ms ([reports/MESH.md](reports/MESH.md)).",
         s.mesh_poses,
         ms(m32.0),
         ms(m64.0),
@@ -543,7 +544,12 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         ms(m32.2),
         ms(m64.3),
         ratio(m32.5, 2),
-        ratio(m64.5, 2)
+        ratio(m64.5, 2),
+        builds[0].0,
+        builds[1].0,
+        builds[0].1,
+        builds[1].1,
+        builds[1].2
     );
     Ok((t, summary))
 }
