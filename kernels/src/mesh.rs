@@ -1283,8 +1283,8 @@ fn contact_key<T: Real>(c: &Contact<T>) -> (u64, u64) {
 
 /// `contacts` in [`contact_key`] order: the keys (with a reference each) sorted, then the
 /// contacts copied in their order, so the sort moves 24 bytes per contact instead of the
-/// contact (72 bytes in f64; `perf` of `spin mesh contacts 5 f64 1 3` had the sort of the
-/// contacts themselves at 11 % of the query).
+/// contact (72 bytes in f64; `perf` of `spin mesh contacts 5 f64 2 3` had the sort of the
+/// contacts themselves at 11 % of the two threads' time).
 fn sorted<'c, T: Real>(contacts: impl Iterator<Item = &'c Contact<T>>) -> Vec<Contact<T>> {
     let mut keys: Vec<((u64, u64), &Contact<T>)> = contacts.map(|c| (contact_key(c), c)).collect();
     keys.sort_unstable_by_key(|k| k.0);
