@@ -1,5 +1,5 @@
 //! Runs one query on one workload for a few seconds (for `perf record`):
-//! `cargo run --release -p tridist-benches --bin spin -- tri_tri random f32 avx2fma 5 [pairs]`,
+//! `cargo run --release -p tridist-benches --bin spin -- tri_tri random f32 avx2fma 5 [pairs [threads]]`,
 //! or a mesh query on the mesh report's scene (Armadillo fixed, fandisk at trajectory pose
 //! `k` of 12): `spin mesh contacts|distance|intersect|build <k> f32|f64 <threads> <secs>`.
 use tridist::{Engine, Intersection, Isa, Query};
@@ -18,8 +18,9 @@ fn main() {
     let arm = || tridist_scenes::mesh::carried("armadillo.off").expect("armadillo");
     let isa = Isa::parse(&a[3]).unwrap_or(Isa::Scalar);
     let secs: f64 = a[4].parse().unwrap_or(5.0);
-    // optional: the number of pairs (default 4096)
+    // optional: the number of pairs (default 4096) and of threads (default 1)
     let count: usize = a.get(5).and_then(|x| x.parse().ok()).unwrap_or(4096);
+    let threads: usize = a.get(6).and_then(|x| x.parse().ok()).unwrap_or(1);
     // a family name, or `arm_nearby` (nearby pairs of the Armadillo mesh)
     let pairs: Vec<_> = if a[1] == "arm_nearby" {
         tridist_scenes::protocol::nearby_pairs(&arm(), 3.0, count, 7)
@@ -27,7 +28,7 @@ fn main() {
         let fam = Family::parse(&a[1]).expect("family");
         families::generate::<f64>(fam, 7, count).into_iter().map(|c| (c.a, c.b)).collect()
     };
-    let e = Engine::new(isa).expect("available");
+    let e = Engine::new(isa).expect("available").threads(threads);
     let t = std::time::Instant::now();
     let mut n = 0usize;
     macro_rules! go {
