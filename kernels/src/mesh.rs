@@ -504,9 +504,7 @@ fn eigenvector(a: &[[f64; 3]; 3], l: f64) -> Option<[f64; 3]> {
     let (n0, n1, n2) = (dot(&c0, &c0), dot(&c1, &c1), dot(&c2, &c2));
     let (c, n) = if n0 >= n1 { (c0, n0) } else { (c1, n1) };
     let (c, n) = if n >= n2 { (c, n) } else { (c2, n2) };
-    let n = n.sqrt();
-    let inv = 1.0 / n;
-    (n > 0.0 && n.is_finite()).then(|| c.map(|x| x * inv))
+    unit_of(c, n)
 }
 
 fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
@@ -515,7 +513,12 @@ fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
 
 /// `a / |a|`, or `None` for a zero or non-finite length.
 fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
-    let n = dot(&a, &a).sqrt();
+    unit_of(a, dot(&a, &a))
+}
+
+/// [`unit`] with `|a|^2` already computed as `n2`.
+fn unit_of(a: [f64; 3], n2: f64) -> Option<[f64; 3]> {
+    let n = n2.sqrt();
     let inv = 1.0 / n;
     (n > 0.0 && n.is_finite()).then(|| a.map(|x| x * inv))
 }
@@ -1286,7 +1289,11 @@ fn contact_key<T: Real>(c: &Contact<T>) -> (u64, u64) {
 /// contact (72 bytes in f64; `perf` of `spin mesh contacts 5 f64 2 3` had the sort of the
 /// contacts themselves at 11 % of the two threads' time).
 fn sorted<'c, T: Real>(contacts: impl Iterator<Item = &'c Contact<T>>) -> Vec<Contact<T>> {
-    let mut keys: Vec<((u64, u64), &Contact<T>)> = contacts.map(|c| (contact_key(c), c)).collect();
+    sorted_keyed(contacts.map(|c| (contact_key(c), c)).collect())
+}
+
+/// [`sorted`] on contacts whose keys are already computed.
+fn sorted_keyed<T: Real>(mut keys: Vec<((u64, u64), &Contact<T>)>) -> Vec<Contact<T>> {
     keys.sort_unstable_by_key(|k| k.0);
     keys.iter().map(|k| *k.1).collect()
 }
@@ -1368,11 +1375,11 @@ fn sort_threaded<T: Real>(threads: usize, parts: Vec<Vec<Contact<T>>>) -> Vec<Co
         &ranges,
         || (),
         |_, &r| {
-            let inside = |c: &&Contact<T>| {
-                let k = contact_key(c);
-                (r == 0 || k >= cuts[r - 1]) && (r + 1 == threads || k < cuts[r])
-            };
-            sorted(parts.iter().flatten().filter(inside))
+            // (each key computed once: to pick the range's contacts and to sort them)
+            let inside = |k: &(u64, u64)| (r == 0 || *k >= cuts[r - 1]) && (r + 1 == threads || *k < cuts[r]);
+            sorted_keyed(
+                parts.iter().flatten().map(|c| (contact_key(c), c)).filter(|(k, _)| inside(k)).collect(),
+            )
         },
     );
     let mut all = Vec::with_capacity(total);

@@ -29,7 +29,7 @@
 //! closest pair of half the others) are gathered into full vectors and answered here (random
 //! pairs: 486.0 instructions per pair instead of 365.4).
 
-use super::{normal_pair, Res};
+use super::{normal_pair, Res, SHARP_E};
 use crate::lanes::{Cx, Lanes, Mask, V3};
 use crate::real::Real;
 
@@ -277,10 +277,6 @@ pub(crate) fn tri_tri_quick<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut
 /// How far (in units of `u`, prescaled: of `u S` at least) the quick stage's candidate may be
 /// from the gap along its direction.
 const SHARP: f64 = 1.0;
-/// The same for the full stage's answer: the E target of ACCURACY.md. (Its correct answers
-/// come within this of their gap: random unit-cube pairs, 2000 per variant, 11-23 re-certified
-/// at 8 u, 318 at 1 u; `scenes/tests/paths.rs`.)
-const SHARP_FULL: f64 = 8.0;
 
 /// The index of the smallest (`min`) or largest of three values, as masks `index == 1`,
 /// `index == 2` (ties to the lower index).
@@ -342,15 +338,16 @@ fn certified<L: Lanes>(
     let (d, p, q, w, v, over) = rebuild(s, t, e, f, na, nb, best, inn, thin);
     let (lo, hi, excess) = interval(s, t, w, v, over);
     // Sharp, as the quick stage's answer must be (see there), with the E target as the
-    // allowance: the candidate within `SHARP_FULL u` of the gap along its direction, or a
+    // allowance: the candidate within `SHARP_E u` of the gap along its direction, or a
     // contact (its distance is 0, and the interval's upper end bounds how wrong that is).
     // Otherwise a missed candidate within the tolerance was accepted: f32, a degenerate
     // triangle (a segment) through a face, where the contact candidates need two proper faces,
     // answered by an edge pair 16 u S away (a contact miss under the 64 u S default; found by
     // `cargo fuzz run tri_tri`). Such pairs go on to the tight re-certification and the
-    // accurate stages.
+    // accurate stages. (Correct answers come within this of their gap: random unit-cube
+    // pairs, 2000 per variant, 11-23 re-certified at 8 u, 318 at 1 u; `scenes/tests/paths.rs`.)
     let k = Cx::of(lo);
-    let sharp = excess.le(k.u().mul(k.c(SHARP_FULL))).or(best.code.ge(k.c(15.0)));
+    let sharp = excess.le(k.u().mul(k.c(SHARP_E))).or(best.code.ge(k.c(15.0)));
     FastOut { r: Res { d, p, q }, lo, hi, sharp }
 }
 

@@ -284,14 +284,16 @@ pub(crate) fn recertify<L: Lanes, const KA: usize, const KB: usize>(
 /// the gap down by about 7.5u), rounded up: the width of the tight interval around an exact
 /// answer, in units of `u` times the distance.
 const TIGHT_REL: f64 = 12.0;
-/// How far (in units of `u S`) a tightly certified answer may be from the lower end of its
-/// interval, beyond the certificate's own slack, and still be called sharp: the E target of
-/// ACCURACY.md.
-const SHARP_TIGHT: f64 = 8.0;
+/// How far (in units of `u S`) an answer accepted before the last stage may be from what its
+/// stage can certify and still be called sharp: the E target of ACCURACY.md. The full fast
+/// stage's answers (from their gap along their direction, `fast::certified`) and the tightly
+/// certified ones (from the lower end of their interval, beyond the certificate's own slack,
+/// [`sharp_tight`]) are held to it.
+pub(crate) const SHARP_E: f64 = 8.0;
 
 /// Is the tightly certified answer in `out` (unscaled) sharp: its interval no wider than
-/// `SHARP_TIGHT u S` plus the certificate's own slack? The interval bounds the answer's error,
-/// so a sharp answer has `E <= SHARP_TIGHT + TIGHT_REL d / S`. A wider interval within the
+/// `SHARP_E u S` plus the certificate's own slack? The interval bounds the answer's error,
+/// so a sharp answer has `E <= SHARP_E + TIGHT_REL d / S`. A wider interval within the
 /// tolerance means the algorithm answered a pair of points that is not the closest one (a
 /// missed candidate: f32, a point over a long sliver whose inside tests failed by rounding,
 /// answered 49 u S too far under the 64 u S default tolerance; found by `cargo fuzz run
@@ -300,7 +302,7 @@ const SHARP_TIGHT: f64 = 8.0;
 #[inline(always)]
 pub(crate) fn sharp_tight<L: Lanes>(sc: &Scaled<L, 6>, out: &Out<L>) -> L::M {
     let k = Cx::of(out.lo);
-    let allowed = k.u().mul(k.c(SHARP_TIGHT).mul(sc.m).add(k.c(TIGHT_REL).mul(out.hi)));
+    let allowed = k.u().mul(k.c(SHARP_E).mul(sc.m).add(k.c(TIGHT_REL).mul(out.hi)));
     out.hi.sub(out.lo).gt(allowed).not().or(sc.finite.not())
 }
 
