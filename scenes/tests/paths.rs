@@ -38,7 +38,7 @@ fn beyond(c: &PathCounts) -> u64 {
 // 1396-1419 (f32) / 830-855 (f64) near-parallel pairs (70-71 % / 42-43 %); after the full fast
 // stage random pairs at most 23 re-certified, 2 recomputed and 1 widened (f32; 1.3 % in all),
 // the Armadillo's none, the near-parallel family 36.3 % (f32) and 10.5 % (f64) re-certified
-// and none recomputed. (Before the full stage's answers had to be sharp, 6e9bb19:
+// and 0-2 recomputed (none before the tight certificate's allowance went from 8 to 5 u S). (Before the full stage's answers had to be sharp, 6e9bb19:
 // random 4 re-certified, near-parallel 28.6 % / 8.4 %: the rule sends the answers whose own
 // arithmetic leaves them more than 8 u from their gap to the tight certificate, which accepts
 // nearly all of them.) The bounds leave a small margin.
