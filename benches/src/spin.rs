@@ -6,29 +6,61 @@ use tridist::{Engine, Intersection, Isa, Query};
 use tridist_scenes::workload::Workload;
 use tridist_scenes::{families, Family};
 
+const USAGE: &str = "usage: spin <query> <family|arm_nearby> f32|f64 <variant|fcl> <secs> [pairs [threads]]
+       spin mesh contacts|distance|intersect|build <pose 0-11> f32|f64 <threads> <secs>";
+
+/// Bad arguments: the reason and the usage on stderr, exit status 2.
+fn usage(why: &str) -> ! {
+    eprintln!("spin: {why}\n{USAGE}");
+    std::process::exit(2)
+}
+
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
-    if a[0] == "mesh" {
+    if a.first().is_some_and(|x| x == "mesh") {
+        if a.len() != 6 {
+            usage("a mesh query takes 5 arguments");
+        }
+        if a[3] != "f32" && a[3] != "f64" {
+            usage("the precision is f32 or f64");
+        }
         if a[3] == "f32" {
             return mesh::<f32>(&a);
         }
         return mesh::<f64>(&a);
     }
-    let q = Query::parse(&a[0]).expect("query");
+    if !(5..=7).contains(&a.len()) {
+        usage("a batch query takes 5 to 7 arguments");
+    }
+    let q = Query::parse(&a[0]).unwrap_or_else(|| usage("unknown query"));
     let arm = || tridist_scenes::mesh::carried("armadillo.off").expect("armadillo");
-    let isa = Isa::parse(&a[3]).unwrap_or(Isa::Scalar);
-    let secs: f64 = a[4].parse().unwrap_or(5.0);
+    // (`fcl` times the peer; the engine is then unused)
+    let isa = if a[3] == "fcl" {
+        Isa::Scalar
+    } else {
+        Isa::parse(&a[3]).unwrap_or_else(|| usage("unknown variant"))
+    };
+    let secs: f64 = a[4].parse().unwrap_or_else(|_| usage("seconds must be a number"));
     // optional: the number of pairs (default 4096) and of threads (default 1)
-    let count: usize = a.get(5).and_then(|x| x.parse().ok()).unwrap_or(4096);
-    let threads: usize = a.get(6).and_then(|x| x.parse().ok()).unwrap_or(1);
+    let count: usize = a
+        .get(5)
+        .map_or(Some(4096), |x| x.parse().ok().filter(|n| *n > 0))
+        .unwrap_or_else(|| usage("pairs must be a positive number"));
+    let threads: usize = a
+        .get(6)
+        .map_or(Some(1), |x| x.parse().ok().filter(|n| *n > 0))
+        .unwrap_or_else(|| usage("threads must be a positive number"));
+    if a[2] != "f32" && a[2] != "f64" {
+        usage("the precision is f32 or f64");
+    }
     // a family name, or `arm_nearby` (nearby pairs of the Armadillo mesh)
     let pairs: Vec<_> = if a[1] == "arm_nearby" {
         tridist_scenes::protocol::nearby_pairs(&arm(), 3.0, count, 7)
     } else {
-        let fam = Family::parse(&a[1]).expect("family");
+        let fam = Family::parse(&a[1]).unwrap_or_else(|| usage("unknown family"));
         families::generate::<f64>(fam, 7, count).into_iter().map(|c| (c.a, c.b)).collect()
     };
-    let e = Engine::new(isa).expect("available").threads(threads);
+    let e = Engine::new(isa).unwrap_or_else(|_| usage("variant not available on this CPU")).threads(threads);
     let t = std::time::Instant::now();
     let mut n = 0usize;
     macro_rules! go {
@@ -80,9 +112,10 @@ fn mesh<T: tridist::Real>(a: &[String]) {
     let tm = |m: &tridist_scenes::mesh::Mesh| {
         Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone()).expect("mesh")
     };
-    let k: usize = a[2].parse().expect("pose index");
-    let threads: usize = a[4].parse().expect("threads");
-    let secs: f64 = a[5].parse().expect("seconds");
+    let k: usize = a[2].parse().ok().filter(|k| *k < 12).unwrap_or_else(|| usage("the pose is 0 to 11"));
+    let threads: usize =
+        a[4].parse().ok().filter(|n| *n > 0).unwrap_or_else(|| usage("threads must be a positive number"));
+    let secs: f64 = a[5].parse().unwrap_or_else(|_| usage("seconds must be a number"));
     let (_, p64) = tridist_scenes::protocol::trajectory_pose(k, 12);
     let pose = Pose {
         rotation: p64.rotation.map(|r| r.map(T::from_f64)),
@@ -100,7 +133,7 @@ fn mesh<T: tridist::Real>(a: &[String]) {
             "distance" => e.mesh_distance(&ma, &id, &mb, &pose).expect("distance").map_or(0, |d| d.tri_a),
             "intersect" => e.mesh_intersect(&ma, &id, &mb, &pose).expect("intersect").map_or(0, |h| h.0),
             "build" => tm(&arm).len() + tm(&fan).len(),
-            q => panic!("unknown mesh query {q}"),
+            _ => usage("unknown mesh query"),
         };
         calls += 1;
     }
