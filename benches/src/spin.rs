@@ -21,13 +21,11 @@ fn main() {
         if a.len() != 6 {
             usage("a mesh query takes 5 arguments");
         }
-        if a[3] != "f32" && a[3] != "f64" {
-            usage("the precision is f32 or f64");
-        }
-        if a[3] == "f32" {
-            return mesh::<f32>(&a);
-        }
-        return mesh::<f64>(&a);
+        return match a[3].as_str() {
+            "f32" => mesh::<f32>(&a),
+            "f64" => mesh::<f64>(&a),
+            _ => usage("the precision is f32 or f64"),
+        };
     }
     if !(5..=7).contains(&a.len()) {
         usage("a batch query takes 5 to 7 arguments");

@@ -1348,12 +1348,7 @@ fn contacts_threaded<T: Real>(
         },
     );
     let parts = found.into_iter().collect::<Result<Vec<_>, Error>>()?;
-    let t0 = std::time::Instant::now();
-    let r = sort_threaded(e.thread_count(), parts);
-    if std::env::var("TIMESORT").is_ok() {
-        eprintln!("SORT {:?}", t0.elapsed());
-    }
-    Ok(r)
+    Ok(sort_threaded(e.thread_count(), parts))
 }
 
 /// The contacts of all `parts` in [`contact_key`] order, sorted on `threads` threads:
@@ -1471,11 +1466,7 @@ impl Engine {
         // deterministic either way: no two contacts share their triangle pair (the threaded
         // search returns them sorted)
         if self.thread_count() <= 1 {
-            let t0 = std::time::Instant::now();
             found = sorted(found.iter());
-            if std::env::var("TIMESORT").is_ok() {
-                eprintln!("SORT {:?}", t0.elapsed());
-            }
         }
         if let Some(c) = cap {
             found.truncate(c);

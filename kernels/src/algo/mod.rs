@@ -288,8 +288,8 @@ const TIGHT_REL: f64 = 12.0;
 /// along its direction and still be accepted there ([`fast`]'s `certified`): a routing rule
 /// (the excess is computed plainly, not an error bound), set at the E target of ACCURACY.md.
 /// Answers beyond it go to the tight certificate, which bounds their error
-/// ([`SHARP_TIGHT`]). (At 5.5 the f32 random workload fell from 27 to 17 M/s: many more
-/// re-certifications.)
+/// ([`SHARP_TIGHT`]). (At 5.5, `spin tri_tri random f32 avx2fma 2` fell from 27 to 17 M/s
+/// and `scenes/tests/paths.rs` re-certified 39 of 2000 random pairs instead of 23.)
 pub(crate) const SHARP_E: f64 = 8.0;
 
 /// How wide (in units of `u S`, beyond the certificate's own slack) a tightly certified
@@ -297,8 +297,9 @@ pub(crate) const SHARP_E: f64 = 8.0;
 /// error bound, so below the loosest E row of the bound table (5.75 for f32 triangle pairs).
 /// At 8 (the E target) the `tri_tri` fuzz target found an f32 segment touching a face
 /// answered 6.77 u S away (exactly 0; `fuzz/regressions/tri_tri/segment-touching-face-*`).
-/// At 5 no throughput is lost (the f32 random workload 27.4-27.8 M/s either way) and 0-2 of
-/// 2000 near-parallel pairs more go to the accurate stage (`scenes/tests/paths.rs`).
+/// At 5 no throughput is lost (`spin tri_tri random|near_parallel f32 avx2fma 2`, 8 and 5
+/// alternated: 27.5-28.3 M/s and 19.7-20.2 M/s either way) and 0-2 of 2000 near-parallel
+/// pairs more go to the accurate stage (`scenes/tests/paths.rs`).
 pub(crate) const SHARP_TIGHT: f64 = 5.0;
 
 /// Is the tightly certified answer in `out` (unscaled) sharp: its interval no wider than
