@@ -413,16 +413,22 @@ pub(crate) fn normal<L: Lanes>(e: &[V3<L>; 3]) -> V3<L> {
     u.cross_accurate(v)
 }
 
-/// Is the triangle with edges `e` ([`edges`]) degenerate (its normal is below the rounding
-/// noise of the cross product of its best-conditioned edge pair)? Relative test.
+/// Is the triangle with edges `e` ([`edges`]) degenerate? True when its normal is below the
+/// rounding noise of the cross product of its best-conditioned edge pair (relative test), or
+/// below the smallest normal number, where the products' underflow (an absolute error of up to
+/// one subnormal step each) leaves its direction wrong by more than that noise. Input is
+/// prescaled (largest coordinate about 1), so such a triangle is narrower than
+/// `sqrt(MIN_POSITIVE)`, far below `u`: handling it as the union of its edges costs nothing.
 #[inline(always)]
 pub(crate) fn degenerate<L: Lanes>(e: &[V3<L>; 3]) -> L::M {
     // Unsquared (max-)norms: squares of a needle's width underflow.
     let (a, b) = normal_pair(e);
-    let n = a.cross(b);
+    let n = a.cross(b).norm_inf();
     let k = Cx::of(a.x);
     let tol = k.u().mul(k.c(16.0));
-    n.norm_inf().le(a.norm_inf().mul(b.norm_inf()).mul(tol))
+    // Found by fuzzing (f64, no FMA): a sliver 2e-323 wide whose normal's small component
+    // underflowed to 0, tilting the plane onto a point 0.0039 away, answered 0.
+    n.le(a.norm_inf().mul(b.norm_inf()).mul(tol)).or(n.lt(k.splat(L::S::MIN_POSITIVE)))
 }
 
 /// Lower bound on the distance of two triangles from their bounding boxes (squared).
