@@ -3,7 +3,9 @@
 
 use std::sync::OnceLock;
 
+use crate::algo::nodes::NodeTest;
 use crate::drv::Job;
+use crate::mesh::MAX_WIDTH;
 use crate::query::{for_each_query, Query};
 
 /// An instruction-set variant. Every variant runs the same algorithms (written once over a lane
@@ -99,6 +101,8 @@ pub(crate) trait Token: Copy + 'static {
     fn run_f32(self, job: &mut Job<'_, f32>);
     /// Runs an f64 job on this instruction set.
     fn run_f64(self, job: &mut Job<'_, f64>);
+    /// The mesh traversal's node test on this instruction set ([`crate::algo::nodes::gaps`]).
+    fn node_gaps(self, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]);
 }
 
 /// The token of the portable (scalar) variant: always available.
@@ -147,6 +151,9 @@ macro_rules! portable_entries {
                     $(Query::$v => p64::$v::run(self, job),)*
                 }
             }
+            fn node_gaps(self, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]) {
+                crate::algo::nodes::gaps::<f64>(self, t, out)
+            }
         }
     };
 }
@@ -156,34 +163,35 @@ mod portable {
 }
 
 macro_rules! run_for {
-    ($fname:ident, $t:ty, $run:ident) => {
-        /// Runs `job` on `isa` with a token from runtime detection (one cached load); a variant
-        /// this CPU lacks runs the portable code instead.
-        pub(crate) fn $fname(isa: Isa, job: &mut Job<'_, $t>) {
+    ($fname:ident, $($a:ident: $ty:ty),*) => {
+        /// Runs the token method of the same name on `isa` with a token from runtime detection
+        /// (one cached load); a variant this CPU lacks runs the portable code instead.
+        pub(crate) fn $fname(isa: Isa, $($a: $ty),*) {
             match isa {
-                Isa::Scalar => Portable.$run(job),
+                Isa::Scalar => Portable.$fname($($a),*),
                 #[cfg(target_arch = "x86_64")]
                 Isa::Sse41 => match crate::arch::x86_simd::Sse41::detect() {
-                    Some(k) => k.$run(job),
-                    None => Portable.$run(job),
+                    Some(k) => k.$fname($($a),*),
+                    None => Portable.$fname($($a),*),
                 },
                 #[cfg(all(target_arch = "x86_64", feature = "avx"))]
                 Isa::Avx => match crate::arch::x86_simd::Avx::detect() {
-                    Some(k) => k.$run(job),
-                    None => Portable.$run(job),
+                    Some(k) => k.$fname($($a),*),
+                    None => Portable.$fname($($a),*),
                 },
                 #[cfg(all(target_arch = "x86_64", not(feature = "avx")))]
-                Isa::Avx => Portable.$run(job),
+                Isa::Avx => Portable.$fname($($a),*),
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx2Fma => match crate::arch::x86_simd::Avx2Fma::detect() {
-                    Some(k) => k.$run(job),
-                    None => Portable.$run(job),
+                    Some(k) => k.$fname($($a),*),
+                    None => Portable.$fname($($a),*),
                 },
                 #[cfg(not(target_arch = "x86_64"))]
-                _ => Portable.$run(job),
+                _ => Portable.$fname($($a),*),
             }
         }
     };
 }
-run_for!(run_f32, f32, run_f32);
-run_for!(run_f64, f64, run_f64);
+run_for!(run_f32, job: &mut Job<'_, f32>);
+run_for!(run_f64, job: &mut Job<'_, f64>);
+run_for!(node_gaps, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]);

@@ -12,6 +12,7 @@
 //! | [`within`] | within-margin: a certified bounding-box test, the rest by the distance pipeline |
 //! | [`penalty`] | Krestenitis & Koziara's penalty method with a regularised Newton step |
 //! | [`cert`] | the per-pair certificate: a rigorous interval `[lo, hi]` around the exact distance |
+//! | [`nodes`] | the mesh traversal's node test: one node against a node's children, a lane per child |
 //!
 //! Precision policy (see ARCHITECTURE.md):
 //! - every query first scales its input by one power of two so that the largest absolute
@@ -26,6 +27,7 @@
 
 pub(crate) mod cert;
 pub(crate) mod fast;
+pub(crate) mod nodes;
 
 // Each query's algorithm file is declared by its registry line (`crate::query`), so adding a
 // query touches that line and its file only.

@@ -16,9 +16,11 @@
 
 use core::arch::x86_64::*;
 
+use crate::algo::nodes::NodeTest;
 use crate::drv::Job;
 use crate::isa::{entry_modules, Isa, Token};
 use crate::lanes::{Lanes, Mask};
+use crate::mesh::MAX_WIDTH;
 use crate::query::{for_each_query, Query};
 
 /// Proof that SSE4.1 is available.
@@ -416,6 +418,15 @@ macro_rules! simd_entries {
                     $(Query::$v => unsafe { p64::$v::run(self, job) },)*
                 }
             }
+            fn node_gaps(self, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]) {
+                // SAFETY: as above.
+                unsafe { node_gaps(self, t, out) }
+            }
+        }
+        /// The mesh traversal's node test with the instruction set enabled.
+        #[target_feature(enable = $feat)]
+        fn node_gaps(k: $tok, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]) {
+            crate::algo::nodes::gaps::<$l64>(k, t, out)
         }
     };
 }

@@ -1,0 +1,166 @@
+//! The mesh traversal's node test ([`crate::mesh`]), written once over [`Lanes`] of f64 like
+//! the triangle kernels: one node of one tree against the children of a node of the other
+//! tree, a lane per child. The lower bound of the squared distance between two nodes is the
+//! larger of their moved axis-aligned boxes' gap and their moved oriented boxes' gap (the
+//! largest projection gap over the line through their centres and the six box axes, less
+//! their balls and every rounding); a node pair is pruned when it exceeds the search's limit.
+//!
+//! Each node's moved bounds are a [`Column`] of [`ROWS`] numbers (the row constants below);
+//! the children of a node are stored as a group, row by row, `stride` numbers per row (a
+//! structure of arrays), so one load fills a vector with one quantity of consecutive children.
+//!
+//! Every lane computes every axis (the early exits are per vector: when every lane is already
+//! pruned by the boxes, or by the centre line). The rounding allowances are those the scalar
+//! test had: each projection gap is lowered by the moved boxes' rounding (`ERR` times the
+//! axis' 1-norm) and by a relative `1e-12`, far above what this arithmetic, fused or not, can
+//! add; squares are lowered by `8 eps`.
+
+use crate::lanes::{Lanes, Mask, V3};
+use crate::mesh::MAX_WIDTH;
+
+/// Row of the moved axis-aligned box's lower corner (3 rows).
+pub(crate) const LO: usize = 0;
+/// Row of its upper corner (3 rows).
+pub(crate) const HI: usize = 3;
+/// Row of the moved oriented box's centre (3 rows).
+pub(crate) const C: usize = 6;
+/// Row of its axes: `E + 3 i + k` is component `k` of axis `i` (9 rows).
+pub(crate) const E: usize = 9;
+/// Row of its half-extents along its axes (3 rows).
+pub(crate) const H: usize = 18;
+/// Row of the radius of its ball (the box is the parallelepiped enlarged by that ball).
+pub(crate) const RHO: usize = 21;
+/// Row of the rounding bound of its centre and weighted axes (1-norms).
+pub(crate) const ERR: usize = 22;
+/// Row of its radius along its own axis `k`, `sum_i h_i |e_i . e_k|` (3 rows).
+pub(crate) const OWN: usize = 23;
+/// Row of the length of its axis `i`, rounded up by a relative `1e-12` (3 rows).
+pub(crate) const LEN: usize = 26;
+/// Row of the 1-norm of its axis `i` (3 rows).
+pub(crate) const N1: usize = 29;
+/// Rows of a node's moved bounds.
+pub(crate) const ROWS: usize = 32;
+
+/// One node's moved bounds (the rows above).
+pub(crate) type Column = [f64; ROWS];
+
+/// A squared gap computed in f64 (a few roundings), lowered past them: a lower bound of the
+/// exact square.
+pub(crate) const DOWN: f64 = 1.0 - 8.0 * f64::EPSILON;
+
+/// The children of one node against one node of the other tree.
+pub(crate) struct NodeTest<'a> {
+    /// The children's columns, row by row: row `r` of child `j` at `r * stride + j`. `stride`
+    /// is a multiple of every f64 lane count (4) and at least the number of children; the
+    /// lanes past `n` hold copies of a child.
+    pub group: &'a [f64],
+    pub stride: usize,
+    /// How many children.
+    pub n: usize,
+    /// The other node: row `r` at `r * fixed_stride`.
+    pub fixed: &'a [f64],
+    pub fixed_stride: usize,
+    /// The search's limit per child (`-inf` past `n`).
+    pub lim: [f64; MAX_WIDTH],
+}
+
+/// For each child `j < t.n`: a lower bound of the squared distance between it and the fixed
+/// node, exact when it is at most `t.lim[j]` (then every axis was tried), and otherwise only
+/// known to exceed it (the node pair is pruned).
+#[inline(always)]
+pub(crate) fn gaps<L: Lanes<S = f64>>(k: L::K, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]) {
+    let c = |v: f64| L::splat(k, v);
+    let z = c(0.0);
+    let mut fixed = [0.0; ROWS];
+    for (r, x) in fixed.iter_mut().enumerate() {
+        *x = t.fixed[r * t.fixed_stride];
+    }
+    let b = |r: usize| c(fixed[r]);
+    let mut base = 0;
+    while base < t.n {
+        let a = |r: usize| L::load(k, &t.group[r * t.stride + base..]);
+        let lim = L::load(k, &t.lim[base..]);
+        let mut box2 = z;
+        for q in 0..3 {
+            let g = b(LO + q).sub(a(HI + q)).max(a(LO + q).sub(b(HI + q))).max(z);
+            box2 = g.mul_add(g, box2);
+        }
+        let mut gap = box2.mul(c(DOWN));
+        if gap.le(lim).any() {
+            gap = gap.max(obb_gap2(k, &a, &b, gap, lim));
+        }
+        gap.store(&mut out[base..]);
+        base += L::N;
+    }
+}
+
+/// The oriented boxes' squared gap lower bound of children `a` (lanes) and the fixed node `b`
+/// (rows given by the two closures), stopping after the centre line when every lane's gap
+/// (with `box2`, the boxes' one) already exceeds `lim`.
+#[inline(always)]
+fn obb_gap2<L: Lanes<S = f64>>(
+    k: L::K,
+    a: &impl Fn(usize) -> L,
+    b: &impl Fn(usize) -> L,
+    box2: L,
+    lim: L,
+) -> L {
+    let c = |v: f64| L::splat(k, v);
+    let z = c(0.0);
+    // (no array maps in this file: they stay calls without the instruction set's features,
+    // and so do the vector operations inside them)
+    let ae = [v3(a, E), v3(a, E + 3), v3(a, E + 6)];
+    let be = [v3(b, E), v3(b, E + 3), v3(b, E + 6)];
+    let dc = v3(b, C).sub(v3(a, C));
+    let rho = a(RHO).add(b(RHO));
+    let errs = a(ERR).add(b(ERR));
+    let (up, shrink) = (c(1.0 + 1e-12), c(1.0 - 1e-12));
+    // The gap along an axis from the centres' projection `proj`, the boxes' radii `ra`, `rb`
+    // (all times the axis' length) and the axis' length and 1-norm, lowered past rounding;
+    // 0 where the projections overlap.
+    let axis = |proj: L, ra: L, rb: L, len: L, n1: L| {
+        let g = proj.sub(ra).sub(rb);
+        let lowered = g.sub(errs.mul(n1)).mul(shrink).div(len);
+        L::select(g.gt(z), lowered, z)
+    };
+    let squared = |best: L| {
+        let o = best.sub(rho).max(z);
+        o.mul(o).mul(c(DOWN))
+    };
+    // The centre line first: it prunes most often, and needs none of the nine cross dots.
+    let da = [ae[0].dot(dc), ae[1].dot(dc), ae[2].dot(dc)];
+    let db = [be[0].dot(dc), be[1].dot(dc), be[2].dot(dc)];
+    let pc = dc.dot(dc);
+    let mut best = axis(pc, radius(a, &da), radius(b, &db), pc.sqrt().mul(up), dc.norm1());
+    if box2.max(squared(best)).gt(lim).all() {
+        return squared(best);
+    }
+    // x[i][j] = |a.e_i . b.e_j|
+    let mut x = [[z; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            x[i][j] = ae[i].dot(be[j]).abs();
+        }
+    }
+    for q in 0..3 {
+        let rb = b(H).mul_add(x[q][0], b(H + 1).mul_add(x[q][1], b(H + 2).mul(x[q][2])));
+        best = best.max(axis(da[q].abs(), a(OWN + q), rb, a(LEN + q), a(N1 + q)));
+    }
+    for q in 0..3 {
+        let ra = a(H).mul_add(x[0][q], a(H + 1).mul_add(x[1][q], a(H + 2).mul(x[2][q])));
+        best = best.max(axis(db[q].abs(), ra, b(OWN + q), b(LEN + q), b(N1 + q)));
+    }
+    squared(best)
+}
+
+/// Rows `r..r + 3` as a vector.
+#[inline(always)]
+fn v3<L: Lanes>(f: &impl Fn(usize) -> L, r: usize) -> V3<L> {
+    V3::new(f(r), f(r + 1), f(r + 2))
+}
+
+/// A box's radius along an axis from its axes' dot products `d` with it: `sum_i h_i |d_i|`.
+#[inline(always)]
+fn radius<L: Lanes>(f: &impl Fn(usize) -> L, d: &[L; 3]) -> L {
+    f(H).mul_add(d[0].abs(), f(H + 1).mul_add(d[1].abs(), f(H + 2).mul(d[2].abs())))
+}
