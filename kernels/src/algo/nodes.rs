@@ -135,19 +135,20 @@ fn obb_gap2<L: Lanes<S = f64>>(
     if box2.max(squared(best)).gt(lim).all() {
         return squared(best);
     }
-    // x[i][j] = |a.e_i . b.e_j|
+    // x[i][j] = a.e_i . b.e_j: row q holds b's axes' dots with a's axis q, column q a's
+    // with b's axis q
     let mut x = [[z; 3]; 3];
     for i in 0..3 {
         for j in 0..3 {
-            x[i][j] = ae[i].dot(be[j]).abs();
+            x[i][j] = ae[i].dot(be[j]);
         }
     }
     for q in 0..3 {
-        let rb = b(H).mul_add(x[q][0], b(H + 1).mul_add(x[q][1], b(H + 2).mul(x[q][2])));
+        let rb = radius(b, &x[q]);
         best = best.max(axis(da[q].abs(), a(OWN + q), rb, a(LEN + q), a(N1 + q)));
     }
     for q in 0..3 {
-        let ra = a(H).mul_add(x[0][q], a(H + 1).mul_add(x[1][q], a(H + 2).mul(x[2][q])));
+        let ra = radius(a, &[x[0][q], x[1][q], x[2][q]]);
         best = best.max(axis(db[q].abs(), ra, b(OWN + q), b(LEN + q), b(N1 + q)));
     }
     squared(best)
