@@ -6,13 +6,13 @@ use crate::{Error, Point, Pose, Real};
 
 /// Lanes of the widest variant; SoA columns are padded to a multiple of this so that every
 /// vector load of a batch, tail included, is in bounds and goes through the same code.
-pub(crate) const PAD: usize = 8;
+pub(crate) const PAD: usize = crate::lanes::MAX_LANES;
 
 /// A batch of primitives with `K` points each (1 = points, 2 = segments, 3 = triangles), stored
 /// as `3*K` padded coordinate columns (Shellshear & Ytterlid's "SIMD layout").
 ///
-/// Invariant: the column stride `cap` is a multiple of 8 and at least the length rounded up to
-/// a multiple of 8, and the lanes from the length to that multiple repeat the last primitive,
+/// Invariant: the column stride `cap` is a multiple of [`PAD`] and at least the length rounded up
+/// to a multiple of it, and the lanes from the length to that multiple repeat the last primitive,
 /// so every vector load of a query is in bounds and finite.
 ///
 /// # Example
@@ -287,7 +287,7 @@ mod tests {
         [[0.0, 0.0, z], [1.0, 0.0, z], [0.0, 1.0, z]]
     }
 
-    /// The padding invariant: lanes from the length to the next multiple of 8 repeat the last.
+    /// The padding invariant: lanes from the length to the next multiple of [`PAD`] repeat the last.
     fn padded(b: &Batch<f64, 3>) -> bool {
         let end = b.len.div_ceil(PAD) * PAD;
         b.len == 0

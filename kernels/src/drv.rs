@@ -25,7 +25,7 @@
 
 use crate::algo::{Kernel, Params};
 use crate::isa::Token;
-use crate::lanes::{Lanes, Mask, V3};
+use crate::lanes::{Lanes, Mask, MAX_LANES, V3};
 use crate::query::Query;
 use crate::real::{Precision, Real};
 use crate::types::{ClosestPoints, Intersection, Interval, PathCounts, Point};
@@ -46,7 +46,7 @@ pub enum Src<'a, T> {
 
 impl<'a, T: Real> Src<'a, T> {
     /// The same source starting at primitive `start` (for splitting a batch across threads;
-    /// SoA splits must be multiples of 8 so that vector loads stay in the padded columns).
+    /// SoA splits must be multiples of `batch::PAD` so that vector loads stay in the padded columns).
     pub(crate) fn from(self, start: usize) -> Src<'a, T> {
         match self {
             Src::Soa { data, cap, base, k } => Src::Soa { data, cap, base: base + start, k },
@@ -101,7 +101,7 @@ impl<'a, T: Real> Src<'a, T> {
     fn load<L: Lanes<S = T>, const K: usize>(&self, kk: L::K, i: usize, lanes: usize) -> [V3<L>; 3] {
         let mut coord = [L::splat(kk, T::ZERO); 9];
         match *self {
-            // Columns are padded to a multiple of 8 with copies of the last primitive.
+            // Columns are padded to a multiple of `batch::PAD` (16) with copies of the last primitive.
             Src::Soa { data, cap, base, .. } => {
                 let d = &data[base + i..];
                 for (j, c) in coord.iter_mut().enumerate().take(3 * K) {
@@ -115,7 +115,7 @@ impl<'a, T: Real> Src<'a, T> {
             }
             Src::Aos { flat, .. } => {
                 for (j, c) in coord.iter_mut().enumerate().take(3 * K) {
-                    let mut buf = [T::ZERO; 8];
+                    let mut buf = [T::ZERO; MAX_LANES];
                     for (l, slot) in buf.iter_mut().enumerate().take(L::N) {
                         *slot = flat[(i + l.min(lanes - 1)) * 3 * K + j];
                     }
@@ -132,7 +132,7 @@ impl<'a, T: Real> Src<'a, T> {
     #[inline(always)]
     fn gather<L: Lanes<S = T>>(&self, kk: L::K, idx: &[u32]) -> [V3<L>; 3] {
         let mut coord = [L::splat(kk, T::ZERO); 9];
-        let mut at = [0usize; 8];
+        let mut at = [0usize; MAX_LANES];
         for (l, a) in at.iter_mut().enumerate().take(L::N) {
             *a = idx[l.min(idx.len() - 1)] as usize;
         }
@@ -163,8 +163,8 @@ impl<'a, T: Real> Src<'a, T> {
 /// hardware gather was tried for the 256-bit types: it halved the compacted stage's
 /// throughput on the AMD EPYC reference machine, `spin tri_tri random f32 avx2fma 2`.)
 #[inline(always)]
-fn gather_col<L: Lanes>(kk: L::K, col: &[L::S], at: &[usize; 8]) -> L {
-    let mut buf = [L::S::ZERO; 8];
+fn gather_col<L: Lanes>(kk: L::K, col: &[L::S], at: &[usize; MAX_LANES]) -> L {
+    let mut buf = [L::S::ZERO; MAX_LANES];
     for (slot, &i) in buf.iter_mut().zip(at).take(L::N) {
         *slot = col[i];
     }
@@ -389,7 +389,7 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
         None => (end - start).div_ceil(L::N),
     };
     for g in 0..groups {
-        let mut ids = [0u32; 8];
+        let mut ids = [0u32; MAX_LANES];
         let (a, b, lanes) = match idx {
             Some(ix) => {
                 let part = &ix[g * L::N..((g + 1) * L::N).min(ix.len())];
@@ -440,7 +440,7 @@ fn write<L: Lanes>(
                 let i = ids[0] as usize;
                 o.d.store(&mut d[i..i + L::N]);
             } else {
-                let mut buf = [L::S::ZERO; 8];
+                let mut buf = [L::S::ZERO; MAX_LANES];
                 o.d.store(&mut buf);
                 for (l, &id) in ids.iter().enumerate() {
                     d[id as usize] = buf[l];
@@ -454,7 +454,7 @@ fn write<L: Lanes>(
         }
         return;
     }
-    let mut buf = [[L::S::ZERO; 8]; 10];
+    let mut buf = [[L::S::ZERO; MAX_LANES]; 10];
     for (slot, v) in buf.iter_mut().zip([o.d, o.p.x, o.p.y, o.p.z, o.q.x, o.q.y, o.q.z, o.lo, o.hi, o.it]) {
         v.store(slot);
     }
@@ -491,7 +491,7 @@ fn recert<L: Lanes, K: Kernel>(
         let (lo, hi) = (g * L::N, ((g + 1) * L::N).min(ix.len()));
         let part = &ix[lo..hi];
         let (a, b) = (job.a.gather::<L>(kk, part), job.b.gather::<L>(kk, part));
-        let mut cols = [[L::S::ZERO; 8]; 7];
+        let mut cols = [[L::S::ZERO; MAX_LANES]; 7];
         for l in 0..L::N {
             let ans = &open.ans[lo + l.min(part.len() - 1)];
             for (c, col) in cols.iter_mut().enumerate() {

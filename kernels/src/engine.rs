@@ -292,7 +292,7 @@ pub struct Engine {
 }
 
 /// The environment variable that pins [`Engine::auto`] to one variant (`scalar`, `sse41`,
-/// `avx`, `avx2fma`), for tests and benchmarks. Read once per process.
+/// `avx`, `avx2fma`, `avx512`), for tests and benchmarks. Read once per process.
 pub const ISA_ENV: &str = "TRIDIST_ISA";
 
 /// Batches below this many pairs stay on the calling thread.
@@ -348,6 +348,19 @@ impl Engine {
     /// The variant this engine runs.
     pub fn isa(&self) -> Isa {
         self.isa
+    }
+
+    /// The engine a mesh query runs its leaf batches and node tests on: this one, except that
+    /// [`Isa::Avx512`] runs [`Isa::Avx2Fma`] (bit for bit the same answers). A traversal's
+    /// leaf batches hold a few pairs each, and 16-lane vectors were 3-5 % slower there
+    /// (`TRIDIST_ISA=avx2fma|avx512 spin mesh distance|contacts|intersect 2|5|9 f32 1 1`,
+    /// Armadillo against fandisk: distance at pose 9 0.376 against 0.386 ms, contacts at
+    /// pose 5 13.2 against 14.0 ms).
+    pub(crate) fn for_small_batches(&self) -> Engine {
+        match self.isa {
+            Isa::Avx512 if Isa::Avx2Fma.is_available() => Engine { isa: Isa::Avx2Fma, ..*self },
+            _ => *self,
+        }
     }
 
     /// The number of threads a large batch is split over ([`Engine::threads`]; 1 by default).

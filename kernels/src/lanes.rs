@@ -15,6 +15,10 @@
 use crate::isa::Token;
 use crate::real::Real;
 
+/// The most lanes of any vector type (AVX-512's f32x16): the size of the driver's lane buffers
+/// and of the batch columns' padding.
+pub(crate) const MAX_LANES: usize = 16;
+
 /// A lane mask: the result of a comparison, one boolean per lane.
 pub(crate) trait Mask: Copy {
     fn and(self, o: Self) -> Self;

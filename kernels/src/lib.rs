@@ -1,7 +1,7 @@
 //! # tridist: fast, certified distance queries between triangles, segments and points
 //!
 //! Squared distances, closest points, intersection and within-margin tests for triangles,
-//! segments and points, in `f32` and `f64`, on scalar, SSE4.1, AVX and AVX2+FMA kernels. Every
+//! segments and points, in `f32` and `f64`, on scalar, SSE4.1, AVX, AVX2+FMA and AVX-512 kernels. Every
 //! answer carries a certified interval around the exact distance, and a pair is only done when
 //! that interval is within the [`Tolerance`]: the rest is escalated (accurate stage, f64, the
 //! exact oracle with the `exact` feature). Every kernel variant is also checked against an exact
@@ -148,6 +148,10 @@ mod inline_order {
                 (type_name::<M64x2<Sse41>>(), "Mask"),
                 (type_name::<M32x8<Avx2Fma>>(), "Mask"),
                 (type_name::<M64x4<Avx2Fma>>(), "Mask"),
+                (type_name::<F32x16<Avx512>>(), "Lanes"),
+                (type_name::<F64x8<Avx512>>(), "Lanes"),
+                (type_name::<M32x16<Avx512>>(), "Mask"),
+                (type_name::<M64x8<Avx512>>(), "Mask"),
             ] {
                 let path = ty.split('<').next().expect("a type path").replace("::", "..");
                 let imp = format!("_$LT${path}$LT$K$GT$$u20$as$u20$tridist..lanes..{tr}$GT$");

@@ -1183,6 +1183,7 @@ fn search<T: Real, S: Search<T>>(
     pb: &Pose<T>,
     s: &mut S,
 ) -> Result<(), Error> {
+    let e = &e.for_small_batches();
     pa.check()?;
     pb.check()?;
     if a.is_empty() || b.is_empty() {
@@ -1374,6 +1375,7 @@ fn contacts_threaded<T: Real>(
     pb: &Pose<T>,
     state: &(impl Fn() -> Contacts<T> + Sync),
 ) -> Result<Vec<Contact<T>>, Error> {
+    let e = &e.for_small_batches();
     pa.check()?;
     pb.check()?;
     if a.is_empty() || b.is_empty() {

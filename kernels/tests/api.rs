@@ -214,7 +214,7 @@ fn misuse_is_an_error_not_a_panic() {
         Some(Error::Arity { query: Query::PointTri, expected: (1, 3), found: (3, 3) })
     );
     assert!(TriangleBatch::from_mesh(&[[0.0f32; 3]; 2], &[[0, 1, 2]]).is_err());
-    assert_eq!(Isa::parse("avx512"), None);
+    assert_eq!(Isa::parse("avx1024"), None);
 }
 
 #[test]
@@ -230,6 +230,11 @@ fn isa_selection() {
     }
     assert_eq!(Isa::Avx2Fma.lanes::<f32>(), 8);
     assert_eq!(Isa::Sse41.lanes::<f64>(), 2);
+    assert_eq!(Isa::Avx512.lanes::<f32>(), 16);
+    assert_eq!(Isa::Avx512.lanes::<f64>(), 8);
+    // AVX-512 implies AVX2+FMA (its entry points enable them, and mesh queries hand their small
+    // leaf batches to that variant)
+    assert!(!Isa::Avx512.is_available() || Isa::Avx2Fma.is_available());
 }
 
 /// The AVX-without-FMA variant exists only with the `avx` feature (`cargo test -p tridist`

@@ -158,7 +158,7 @@ fn rounding_to_f64_edge_cases() {
         }
         let b = f64::from_bits(a.to_bits() + 1);
         let mid = (q(a) + q(b)) / 2;
-        let even = if a.to_bits() % 2 == 0 { a } else { b };
+        let even = if a.to_bits().is_multiple_of(2) { a } else { b };
         assert_eq!(round::to_f64(&mid), even, "tie between {a:e} and {b:e}");
         let eps = Rational::from(&mid - &q(a)) / 1024;
         assert_eq!(round::to_f64(&(mid.clone() - &eps)), a);

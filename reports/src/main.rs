@@ -228,7 +228,7 @@ fn parse_query(s: &str) -> Result<Query, String> {
 }
 
 pub(crate) fn parse_variant(s: &str) -> Result<Variant, String> {
-    Variant::parse(s).ok_or_else(|| "unknown variant (scalar, soa, sse41, avx, avx2fma, auto)".into())
+    Variant::parse(s).ok_or_else(|| "unknown variant (scalar, soa, sse41, avx, avx2fma, avx512, auto)".into())
 }
 
 fn parse_peer(s: &str) -> Result<Lib, String> {

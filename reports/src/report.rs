@@ -124,6 +124,18 @@ const TOLERANCES: [(&str, Tolerance); 5] = [
     ("abs:1e-3", Tolerance { scaled: 0.0, absolute: 1e-3, relative: 0.0 }),
 ];
 
+/// The variants the peer comparisons show: AVX2+FMA (the variant the speed targets name), and
+/// the best one of this CPU when that is another (AVX-512).
+fn shown_variants(best: &str) -> Vec<&str> {
+    if best == "avx2fma" || best == "scalar" || best == "soa" {
+        vec![best]
+    } else if Variant::Avx2Fma.available() {
+        vec!["avx2fma", best]
+    } else {
+        vec![best]
+    }
+}
+
 fn best() -> Variant {
     Variant::from_isa(tridist::Isa::best())
 }
@@ -576,20 +588,27 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
     let mut t =
         header("Throughput of every kernel variant, and of the peers on the same pairs", &s.command, seed);
     let _ = writeln!(t, "Million queries per second, one thread unless stated, default tolerance, the median of repeated passes over {} pairs per workload (segment-segment: the 9 edge pairs of each triangle pair; point-triangle: the 6 vertex-triangle pairs; within-margin: margin 0.02 on meshes normalised to [-1, 1]^3). Every measurement first checks its results against the scalar AoS variant. Peers run on the same pairs in the same run, after an agreement check. Regenerate with the command above; the criterion benches (`cargo bench -p tridist-benches`) time the same workloads.\n", s.pairs);
-    let _ = writeln!(t, "## Triangle-triangle distance against the fastest peer\n\n| workload | prec | tridist scalar (AoS) | tridist {bn} | parry3d | FCL | {bn} / FCL | {bn} / parry3d | {bn} / scalar |\n|---|---|---|---|---|---|---|---|---|");
+    // AVX2+FMA, and the best variant when it is another (AVX-512)
+    let shown = shown_variants(bn);
+    let own: String = shown.iter().map(|v| format!(" tridist {v} |")).collect();
+    let own_fcl: String = shown.iter().map(|v| format!(" {v} / FCL |")).collect();
+    let _ = writeln!(t, "## Triangle-triangle distance against the fastest peer\n\n| workload | prec | tridist scalar (AoS) |{own} parry3d | FCL |{own_fcl} {bn} / parry3d | {bn} / scalar |\n|---|---|---|{}---|---|{}---|---|", "---|".repeat(shown.len()), "---|".repeat(shown.len()));
     for &(id, title) in &m.workloads {
         for p in ["f32", "f64"] {
             let ours = q1(thr, id, Query::TriTri, bn, p);
             let parry = q1(thr, id, Query::TriTri, "parry3d", p);
             let fcl = q1(thr, id, Query::TriTri, "fcl", p);
+            let each = |f: &dyn Fn(Option<f64>) -> String| -> String {
+                shown.iter().map(|v| format!(" {} |", f(q1(thr, id, Query::TriTri, v, p)))).collect()
+            };
             let _ = writeln!(
                 t,
-                "| {title} | {p} | {} | {} | {} | {} | **{}** | {} | {} |",
+                "| {title} | {p} | {} |{} {} | {} |{} {} | {} |",
                 mq(q1(thr, id, Query::TriTri, "scalar", p)),
-                mq(ours),
+                each(&|x| mq(x)),
                 mq(parry),
                 mq(fcl),
-                ratio(ours, fcl),
+                each(&|x| format!("**{}**", ratio(x, fcl))),
                 ratio(ours, parry),
                 ratio(ours, q1(thr, id, Query::TriTri, "scalar", p))
             );
@@ -673,7 +692,9 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
         }
     }
     for &(id, title) in &m.workloads {
-        let _ = writeln!(t, "\n## {title}\n\n| query | prec | scalar (AoS) | soa | sse41 | avx | avx2fma |\n|---|---|---|---|---|---|---|");
+        let names: String = Variant::ALL[1..].iter().map(|v| format!(" {} |", v.name())).collect();
+        let rule = "---|".repeat(Variant::ALL.len());
+        let _ = writeln!(t, "\n## {title}\n\n| query | prec | scalar (AoS) |{names}\n|---|---|{rule}");
         for q in queries_of(id) {
             for p in ["f32", "f64"] {
                 let cells: Vec<String> =
@@ -687,12 +708,13 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
         t,
         "\n## Ratios (random unit cube, tri-tri unless named)\n\n| comparison | f32 | f64 |\n|---|---|---|"
     );
-    let comps: [(&str, &str, &str); 5] = [
+    let comps: [(&str, &str, &str); 6] = [
         ("AVX2+FMA vs scalar AoS", "avx2fma", "scalar"),
         ("AVX2+FMA vs SSE4.1", "avx2fma", "sse41"),
         ("AVX (no FMA) vs SSE4.1", "avx", "sse41"),
         ("AVX2+FMA vs AVX (FMA effect)", "avx2fma", "avx"),
         ("scalar SoA vs scalar AoS (layout)", "soa", "scalar"),
+        ("AVX-512 vs AVX2+FMA (16/8 lanes against 8/4)", "avx512", "avx2fma"),
     ];
     for (label, x, y) in comps {
         let r = |p| ratio(q1(thr, rw, Query::TriTri, x, p), q1(thr, rw, Query::TriTri, y, p));
@@ -901,14 +923,24 @@ fn update_readme(path: &Path, m: &Measured, mesh: &str) -> Result<(), String> {
         fmt(pen_med)
     );
     for (wl, title) in [("random", "random unit-cube pairs"), ("arm_nearby", "nearby Armadillo triangles")] {
+        let fcl = q(wl, "fcl", "f64");
+        let ours: Vec<String> = shown_variants(bn)
+            .iter()
+            .map(|v| {
+                format!(
+                    "{v} f32 {} M/s, f64 {} M/s: **{} (f32)** and **{} (f64)** FCL's speed",
+                    mq(q(wl, v, "f32")),
+                    mq(q(wl, v, "f64")),
+                    ratio(q(wl, v, "f32"), fcl),
+                    ratio(q(wl, v, "f64"), fcl)
+                )
+            })
+            .collect();
         let _ = writeln!(
             s,
-            "- Triangle-triangle distance on {title}, one thread: {bn} f32 {} M/s, f64 {} M/s; FCL (double PQP) {} M/s: **{} (f32)** and **{} (f64)** FCL's speed; parry3d f32 {} M/s. Own scalar AoS f32: {} M/s ({} f32 is {}).",
-            mq(q(wl, bn, "f32")),
-            mq(q(wl, bn, "f64")),
-            mq(q(wl, "fcl", "f64")),
-            ratio(q(wl, bn, "f32"), q(wl, "fcl", "f64")),
-            ratio(q(wl, bn, "f64"), q(wl, "fcl", "f64")),
+            "- Triangle-triangle distance on {title}, one thread, against FCL (double PQP) at {} M/s: {}; parry3d f32 {} M/s. Own scalar AoS f32: {} M/s ({} f32 is {}).",
+            mq(fcl),
+            ours.join("; "),
             mq(q(wl, "parry3d", "f32")),
             mq(q(wl, "scalar", "f32")),
             bn,

@@ -114,11 +114,33 @@ fn malformed_lines_are_reported_with_line_numbers_and_the_run_goes_on() {
     assert_eq!(out.trim(), "nan invalid");
 }
 
+/// `--variant avx512` answers as `avx2fma` does, bit for bit (the same fused operations on
+/// wider vectors), or, on a CPU without AVX-512, is a runtime error (status 3) that says so.
+#[test]
+fn avx512_variant_answers_as_avx2fma_or_says_it_is_unavailable() {
+    let input = "apart 0 0 0 1 0 0 0 1 0 0.25 0.25 2 1 0 2 0 1 3\ncrossing 0 0 0 1 0 0 0 1 0 0.2 0.2 -1 0.3 0.1 1 0.1 0.4 1\n";
+    for p in ["f32", "f64"] {
+        let (c2, o2, e2) = tridist(&["eval", "--variant", "avx2fma", "--precision", p, "--check"], input);
+        let (c5, o5, e5) = tridist(&["eval", "--variant", "avx512", "--precision", p, "--check"], input);
+        if !tridist::Isa::Avx2Fma.is_available() {
+            continue;
+        }
+        assert_eq!(c2, 0, "{e2}");
+        if tridist::Isa::Avx512.is_available() {
+            assert_eq!((c5, &o5), (0, &o2), "{e5}");
+            assert_eq!(o5.lines().count(), 2, "{o5}");
+        } else {
+            assert_eq!(c5, 3, "{e5}");
+            assert!(e5.contains("avx512") && e5.contains("not available"), "{e5}");
+        }
+    }
+}
+
 #[test]
 fn usage_errors_exit_2_with_the_usage_and_runtime_errors_exit_3_without() {
     for args in [
         &["frobnicate"][..],
-        &["eval", "--variant", "avx512"],
+        &["eval", "--variant", "avx1024"],
         &["eval", "--precision", "f16"],
         &["eval", "--kernel", "pqq"],
         &["eval", "--bogus"],

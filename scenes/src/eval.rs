@@ -26,12 +26,14 @@ pub enum Variant {
     Avx,
     /// AVX2 + FMA over SoA.
     Avx2Fma,
+    /// AVX-512 over SoA (fused, as AVX2 + FMA).
+    Avx512,
 }
 
 impl Variant {
     /// Every variant.
-    pub const ALL: [Variant; 5] =
-        [Variant::Scalar, Variant::Soa, Variant::Sse41, Variant::Avx, Variant::Avx2Fma];
+    pub const ALL: [Variant; 6] =
+        [Variant::Scalar, Variant::Soa, Variant::Sse41, Variant::Avx, Variant::Avx2Fma, Variant::Avx512];
     /// Short name.
     pub fn name(self) -> &'static str {
         match self {
@@ -40,6 +42,7 @@ impl Variant {
             Variant::Sse41 => "sse41",
             Variant::Avx => "avx",
             Variant::Avx2Fma => "avx2fma",
+            Variant::Avx512 => "avx512",
         }
     }
     /// Parses [`Variant::name`] (`auto` = the best available SoA variant).
@@ -56,6 +59,7 @@ impl Variant {
             Variant::Sse41 => Isa::Sse41,
             Variant::Avx => Isa::Avx,
             Variant::Avx2Fma => Isa::Avx2Fma,
+            Variant::Avx512 => Isa::Avx512,
         }
     }
     /// The SoA variant of an instruction set.
@@ -65,6 +69,7 @@ impl Variant {
             Isa::Sse41 => Variant::Sse41,
             Isa::Avx => Variant::Avx,
             Isa::Avx2Fma => Variant::Avx2Fma,
+            Isa::Avx512 => Variant::Avx512,
         }
     }
     /// Can this CPU run it?
@@ -73,7 +78,7 @@ impl Variant {
     }
     /// Does it fuse multiply-adds (different rounding from the unfused variants)?
     pub fn fused(self) -> bool {
-        self == Variant::Avx2Fma
+        matches!(self, Variant::Avx2Fma | Variant::Avx512)
     }
     /// The engine (default tolerance).
     ///

@@ -33,6 +33,9 @@ pub(crate) struct Avx(());
 /// Proof that AVX2 and FMA (and AVX) are available.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Avx2Fma(());
+/// Proof that AVX-512F (and AVX2, FMA, AVX) are available.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Avx512(());
 
 impl Sse41 {
     /// A token when this CPU has SSE4.1 (cached detection).
@@ -53,6 +56,12 @@ impl Avx2Fma {
         Isa::Avx2Fma.is_available().then_some(Avx2Fma(()))
     }
 }
+impl Avx512 {
+    /// A token when this CPU has AVX-512F, AVX2 and FMA (cached detection).
+    pub(crate) fn detect() -> Option<Self> {
+        Isa::Avx512.is_available().then_some(Avx512(()))
+    }
+}
 
 /// Tokens that prove SSE4.1 (the 128-bit types).
 pub(crate) trait HasSse41: Token {}
@@ -69,6 +78,14 @@ impl HasAvx for Avx {
 impl HasAvx for Avx2Fma {
     const FMA: bool = true;
 }
+/// (The AVX-512 entry points run the mesh node test on the 256-bit types.)
+impl HasAvx for Avx512 {
+    const FMA: bool = true;
+}
+
+/// Tokens that prove AVX-512F (the 512-bit types, always fused).
+pub(crate) trait HasAvx512: Token {}
+impl HasAvx512 for Avx512 {}
 
 macro_rules! mask_type {
     ($name:ident, $cap:ident, $reg:ty, $and:ident, $or:ident, $andnot:ident, $xor:ident, $movemask:ident, $cast:ident, $set1:ident, $full:expr) => {
@@ -230,7 +247,7 @@ macro_rules! vec_type {
             #[inline(always)]
             fn mul_add(self, b: Self, c: Self) -> Self {
                 if $fma {
-                    // SAFETY: `$fma` holds only for tokens that prove FMA (`Avx2Fma`): detection
+                    // SAFETY: `$fma` holds only for tokens that prove FMA (`Avx2Fma`, `Avx512`): detection
                     // found it (module docs).
                     Self(unsafe { $fmadd(self.0, b.0, c.0) }, self.1)
                 } else {
@@ -397,11 +414,162 @@ vec_type!(
     bits = u64
 );
 
+/// An AVX-512 comparison mask: one bit per lane in a `__mmask16` / `__mmask8` (plain integer
+/// operations: no intrinsic, no `unsafe`).
+macro_rules! kmask_type {
+    ($name:ident, $bits:ty) => {
+        #[derive(Clone, Copy)]
+        pub(crate) struct $name<K>($bits, K);
+        impl<K: HasAvx512> Mask for $name<K> {
+            #[inline(always)]
+            fn and(self, o: Self) -> Self {
+                Self(self.0 & o.0, self.1)
+            }
+            #[inline(always)]
+            fn or(self, o: Self) -> Self {
+                Self(self.0 | o.0, self.1)
+            }
+            #[inline(always)]
+            fn andnot(self, o: Self) -> Self {
+                Self(self.0 & !o.0, self.1)
+            }
+            #[inline(always)]
+            fn not(self) -> Self {
+                Self(!self.0, self.1)
+            }
+            #[inline(always)]
+            fn all(self) -> bool {
+                self.0 == <$bits>::MAX
+            }
+            #[inline(always)]
+            fn any(self) -> bool {
+                self.0 != 0
+            }
+            #[inline(always)]
+            fn bits(self) -> u32 {
+                self.0 as u32
+            }
+        }
+    };
+}
+kmask_type!(M32x16, __mmask16);
+kmask_type!(M64x8, __mmask8);
+
+/// The AVX-512 forms of the operations [`vec_type!`] takes in the SSE/AVX shape: a blend by a
+/// bit mask with the operands in `blendv` order, and bitwise and / and-not of floats (AVX-512F
+/// has them on integers). Called only inside the AVX-512 entry points, like every lane method.
+macro_rules! avx512_forms {
+    ($reg:ty, $m:ty, $blendv:ident, $and:ident, $andnot:ident, $blend:ident, $to:ident, $from:ident) => {
+        /// `m ? t : f` per lane.
+        ///
+        /// # Safety
+        /// AVX-512F must be available (a token's caller).
+        #[inline(always)]
+        unsafe fn $blendv(f: $reg, t: $reg, m: $m) -> $reg {
+            // SAFETY: the caller holds a token of AVX-512F.
+            unsafe { $blend(m, f, t) }
+        }
+        /// `a & b` bitwise.
+        ///
+        /// # Safety
+        /// AVX-512F must be available (a token's caller).
+        #[inline(always)]
+        unsafe fn $and(a: $reg, b: $reg) -> $reg {
+            // SAFETY: the caller holds a token of AVX-512F.
+            unsafe { $from(_mm512_and_si512($to(a), $to(b))) }
+        }
+        /// `!a & b` bitwise.
+        ///
+        /// # Safety
+        /// AVX-512F must be available (a token's caller).
+        #[inline(always)]
+        unsafe fn $andnot(a: $reg, b: $reg) -> $reg {
+            // SAFETY: the caller holds a token of AVX-512F.
+            unsafe { $from(_mm512_andnot_si512($to(a), $to(b))) }
+        }
+    };
+}
+avx512_forms!(
+    __m512,
+    __mmask16,
+    blendv512_ps,
+    and512_ps,
+    andnot512_ps,
+    _mm512_mask_blend_ps,
+    _mm512_castps_si512,
+    _mm512_castsi512_ps
+);
+avx512_forms!(
+    __m512d,
+    __mmask8,
+    blendv512_pd,
+    and512_pd,
+    andnot512_pd,
+    _mm512_mask_blend_pd,
+    _mm512_castpd_si512,
+    _mm512_castsi512_pd
+);
+
+vec_type!(
+    F32x16,
+    HasAvx512,
+    true,
+    f32,
+    16,
+    __m512,
+    M32x16,
+    set1 = _mm512_set1_ps,
+    loadu = _mm512_loadu_ps,
+    storeu = _mm512_storeu_ps,
+    add = _mm512_add_ps,
+    sub = _mm512_sub_ps,
+    mul = _mm512_mul_ps,
+    div = _mm512_div_ps,
+    min = _mm512_min_ps,
+    max = _mm512_max_ps,
+    sqrt = _mm512_sqrt_ps,
+    and = and512_ps,
+    andnot = andnot512_ps,
+    blendv = blendv512_ps,
+    fmadd = _mm512_fmadd_ps,
+    lt = _mm512_cmp_ps_mask::<_CMP_LT_OQ>,
+    le = _mm512_cmp_ps_mask::<_CMP_LE_OQ>,
+    eq = _mm512_cmp_ps_mask::<_CMP_EQ_OQ>,
+    bits = u32
+);
+vec_type!(
+    F64x8,
+    HasAvx512,
+    true,
+    f64,
+    8,
+    __m512d,
+    M64x8,
+    set1 = _mm512_set1_pd,
+    loadu = _mm512_loadu_pd,
+    storeu = _mm512_storeu_pd,
+    add = _mm512_add_pd,
+    sub = _mm512_sub_pd,
+    mul = _mm512_mul_pd,
+    div = _mm512_div_pd,
+    min = _mm512_min_pd,
+    max = _mm512_max_pd,
+    sqrt = _mm512_sqrt_pd,
+    and = and512_pd,
+    andnot = andnot512_pd,
+    blendv = blendv512_pd,
+    fmadd = _mm512_fmadd_pd,
+    lt = _mm512_cmp_pd_mask::<_CMP_LT_OQ>,
+    le = _mm512_cmp_pd_mask::<_CMP_LE_OQ>,
+    eq = _mm512_cmp_pd_mask::<_CMP_EQ_OQ>,
+    bits = u64
+);
+
 /// The entry points of one instruction set: for each query and precision a
 /// `#[target_feature]` function instantiating the driver with the token's lane types, each in a
 /// module of its own (`crate::isa::entry_modules`).
 macro_rules! simd_entries {
-    ([($tok:ty), ($feat:literal), ($l32:ty), ($l64:ty)] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
+    ([($tok:ty), ($feat:literal), ($l32:ty), ($l64:ty), ($node:ty)] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
         entry_modules!(p32, f32, $tok, target_feature(enable = $feat), $l32, $($v, $m::$k;)*);
         entry_modules!(p64, f64, $tok, target_feature(enable = $feat), $l64, $($v, $m::$k;)*);
         impl Token for $tok {
@@ -426,7 +594,7 @@ macro_rules! simd_entries {
         /// The mesh traversal's node test with the instruction set enabled.
         #[target_feature(enable = $feat)]
         fn node_gaps(k: $tok, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]) {
-            crate::algo::nodes::gaps::<$l64>(k, t, out)
+            crate::algo::nodes::gaps::<$node>(k, t, out)
         }
     };
 }
@@ -435,14 +603,32 @@ macro_rules! simd_entries {
 // entry points of different instruction sets are optimised in parallel.
 mod sse41 {
     use super::*;
-    for_each_query!(simd_entries, (Sse41), ("sse4.1"), (F32x4<Sse41>), (F64x2<Sse41>));
+    for_each_query!(simd_entries, (Sse41), ("sse4.1"), (F32x4<Sse41>), (F64x2<Sse41>), (F64x2<Sse41>));
 }
 #[cfg(feature = "avx")]
 mod avx {
     use super::*;
-    for_each_query!(simd_entries, (Avx), ("avx"), (F32x8<Avx>), (F64x4<Avx>));
+    for_each_query!(simd_entries, (Avx), ("avx"), (F32x8<Avx>), (F64x4<Avx>), (F64x4<Avx>));
 }
 mod avx2fma {
     use super::*;
-    for_each_query!(simd_entries, (Avx2Fma), ("avx2,fma"), (F32x8<Avx2Fma>), (F64x4<Avx2Fma>));
+    for_each_query!(
+        simd_entries,
+        (Avx2Fma),
+        ("avx2,fma"),
+        (F32x8<Avx2Fma>),
+        (F64x4<Avx2Fma>),
+        (F64x4<Avx2Fma>)
+    );
+}
+mod avx512 {
+    use super::*;
+    for_each_query!(
+        simd_entries,
+        (Avx512),
+        ("avx512f,avx2,fma"),
+        (F32x16<Avx512>),
+        (F64x8<Avx512>),
+        (F64x4<Avx512>)
+    );
 }
