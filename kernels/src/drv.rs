@@ -159,16 +159,13 @@ impl<'a, T: Real> Src<'a, T> {
     }
 }
 
-/// `col[at[l]]` in lane `l` (panics when an index is out of bounds): lane compaction. (AVX2's
-/// hardware gather was tried for the 256-bit types: it halved the compacted stage's
-/// throughput on the AMD EPYC reference machine, `spin tri_tri random f32 avx2fma 2`.)
+/// `col[at[l]]` in lane `l` (panics when an index is out of bounds): lane compaction
+/// ([`Lanes::gather`]). (AVX2's hardware gather was tried for the 256-bit types: it halved the
+/// compacted stage's throughput on the AMD EPYC reference machine, `spin tri_tri random f32
+/// avx2fma 2`; AVX-512's is used, see there.)
 #[inline(always)]
 fn gather_col<L: Lanes>(kk: L::K, col: &[L::S], at: &[usize; MAX_LANES]) -> L {
-    let mut buf = [L::S::ZERO; MAX_LANES];
-    for (slot, &i) in buf.iter_mut().zip(at).take(L::N) {
-        *slot = col[i];
-    }
-    L::load(kk, &buf)
+    L::gather(kk, col, at)
 }
 
 #[inline(always)]

@@ -19,6 +19,16 @@ use crate::real::Real;
 /// and of the batch columns' padding.
 pub(crate) const MAX_LANES: usize = 16;
 
+/// [`Lanes::gather`] one lane at a time, through a buffer.
+#[inline(always)]
+pub(crate) fn gather_lanes<L: Lanes>(k: L::K, col: &[L::S], at: &[usize; MAX_LANES]) -> L {
+    let mut buf = [L::S::ZERO; MAX_LANES];
+    for (slot, &i) in buf.iter_mut().zip(at).take(L::N) {
+        *slot = col[i];
+    }
+    L::load(k, &buf)
+}
+
 /// A lane mask: the result of a comparison, one boolean per lane.
 pub(crate) trait Mask: Copy {
     fn and(self, o: Self) -> Self;
@@ -75,6 +85,12 @@ pub(crate) trait Lanes: Copy {
     fn select(m: Self::M, t: Self, f: Self) -> Self;
     /// Keeps only the exponent bits: the largest power of two not above a positive normal value.
     fn exponent(self) -> Self;
+    /// `col[at[l]]` in lane `l` (panics when an index is out of bounds): lane compaction. One
+    /// load per lane through a buffer here; the AVX-512 types use the hardware gather.
+    #[inline(always)]
+    fn gather(k: Self::K, col: &[Self::S], at: &[usize; MAX_LANES]) -> Self {
+        gather_lanes(k, col, at)
+    }
 
     #[inline(always)]
     fn gt(self, o: Self) -> Self::M {
