@@ -127,9 +127,7 @@ const TOLERANCES: [(&str, Tolerance); 5] = [
 /// The variants the peer comparisons show: AVX2+FMA (the variant the speed targets name), and
 /// the best one of this CPU when that is another (AVX-512).
 fn shown_variants(best: &str) -> Vec<&str> {
-    if best == "avx2fma" || best == "scalar" || best == "soa" {
-        vec![best]
-    } else if Variant::Avx2Fma.available() {
+    if best != "avx2fma" && Variant::Avx2Fma.available() {
         vec!["avx2fma", best]
     } else {
         vec![best]

@@ -1,8 +1,11 @@
-//! x86-64 vector types: SSE4.1 (f32x4, f64x2) and AVX (f32x8, f64x4, with and without FMA),
-//! their capability tokens, and the `#[target_feature]` entry points, one per query, generated
-//! from the registry (`crate::query`).
+//! x86-64 vector types: SSE4.1 (f32x4, f64x2), AVX (f32x8, f64x4, with and without FMA) and
+//! AVX-512F (f32x16, f64x8, fused; masks in `__mmask16` / `__mmask8`), their capability
+//! tokens, and the `#[target_feature]` entry points, one per query, generated from the
+//! registry (`crate::query`). Every vector type comes from the one `vec_type!` macro; AVX-512's
+//! differently shaped operations (bit-mask blend, bitwise ops of floats) are supplied as small
+//! wrappers in that shape, and its lane compaction uses the hardware gather.
 //!
-//! Soundness, by construction: a token (`Sse41`, `Avx`, `Avx2Fma`) has a private field and is
+//! Soundness, by construction: a token (`Sse41`, `Avx`, `Avx2Fma`, `Avx512`) has a private field and is
 //! made only by `detect()`, after runtime detection found its features. Every vector and mask
 //! value carries its token (a zero-sized field) and every way to make one from nothing takes a
 //! token, so holding a value proves the CPU runs its instructions: each `unsafe` intrinsic call
@@ -247,8 +250,8 @@ macro_rules! vec_type {
             #[inline(always)]
             fn mul_add(self, b: Self, c: Self) -> Self {
                 if $fma {
-                    // SAFETY: `$fma` holds only for tokens that prove FMA (`Avx2Fma`, `Avx512`): detection
-                    // found it (module docs).
+                    // SAFETY: `$fma` holds only for tokens that prove FMA (`Avx2Fma`,
+                    // `Avx512`): detection found it (module docs).
                     Self(unsafe { $fmadd(self.0, b.0, c.0) }, self.1)
                 } else {
                     self.mul(b).add(c)
@@ -507,8 +510,7 @@ macro_rules! avx512_forms {
 macro_rules! gather512 {
     ($name:ident, $s:ty, $reg:ty, $n:expr, $ix:ty, $load_ix:ident, $gather:ident, $scale:expr) => {
         #[inline(always)]
-        fn $name<K: HasAvx512>(k: K, col: &[$s], at: &[usize; MAX_LANES]) -> Option<$reg> {
-            let _ = k;
+        fn $name<K: HasAvx512>(_: K, col: &[$s], at: &[usize; MAX_LANES]) -> Option<$reg> {
             let mut off = [0i32; $n];
             let mut top = 0;
             for (o, &i) in off.iter_mut().zip(at) {
@@ -519,8 +521,8 @@ macro_rules! gather512 {
                 return None;
             }
             // SAFETY: every offset is below `col.len()` (checked above) and fits in i32, so
-            // each lane reads an element of `col`; `off` has the index vector's size; `k` is
-            // a token: detection found AVX-512F (module docs).
+            // each lane reads an element of `col`; `off` has the index vector's size; the
+            // first argument is a token: detection found AVX-512F (module docs).
             Some(unsafe {
                 let ix: $ix = $load_ix(off.as_ptr().cast());
                 $gather::<$scale>(ix, col.as_ptr().cast())
