@@ -101,7 +101,7 @@ impl<'a, T: Real> Src<'a, T> {
     fn load<L: Lanes<S = T>, const K: usize>(&self, kk: L::K, i: usize, lanes: usize) -> [V3<L>; 3] {
         let mut coord = [L::splat(kk, T::ZERO); 9];
         match *self {
-            // Columns are padded to a multiple of `batch::PAD` (16) with copies of the last primitive.
+            // Columns are padded to a multiple of `batch::PAD` with copies of the last primitive.
             Src::Soa { data, cap, base, .. } => {
                 let d = &data[base + i..];
                 for (j, c) in coord.iter_mut().enumerate().take(3 * K) {
@@ -140,13 +140,13 @@ impl<'a, T: Real> Src<'a, T> {
         match *self {
             Src::Soa { data, cap, base, .. } => {
                 for (j, c) in coord.iter_mut().enumerate().take(3 * k) {
-                    *c = gather_col::<L>(kk, &data[j * cap + base..], &at);
+                    *c = L::gather(kk, &data[j * cap + base..], &at);
                 }
             }
             Src::Aos { flat, .. } => {
                 let at = at.map(|i| i * 3 * k);
                 for (j, c) in coord.iter_mut().enumerate().take(3 * k) {
-                    *c = gather_col::<L>(kk, &flat[j..], &at);
+                    *c = L::gather(kk, &flat[j..], &at);
                 }
             }
             Src::One { flat, .. } => {
@@ -157,15 +157,6 @@ impl<'a, T: Real> Src<'a, T> {
         }
         to_points(&coord, k)
     }
-}
-
-/// `col[at[l]]` in lane `l` (panics when an index is out of bounds): lane compaction
-/// ([`Lanes::gather`]). (AVX2's hardware gather was tried for the 256-bit types: it halved the
-/// compacted stage's throughput on the AMD EPYC reference machine, `spin tri_tri random f32
-/// avx2fma 2`; AVX-512's is used, see there.)
-#[inline(always)]
-fn gather_col<L: Lanes>(kk: L::K, col: &[L::S], at: &[usize; MAX_LANES]) -> L {
-    L::gather(kk, col, at)
 }
 
 #[inline(always)]

@@ -22,8 +22,9 @@ pub enum Isa {
     /// AVX2 + FMA: f32x8, f64x4, fused multiply-add in every dot product.
     Avx2Fma,
     /// AVX-512 (F, with AVX2 and FMA): f32x16, f64x8, fused like [`Isa::Avx2Fma`], so every
-    /// answer is bit for bit that variant's (tested); only the lane count differs. (The mesh
-    /// node test keeps [`Isa::Avx2Fma`]'s 4 f64 lanes: a node has at most 8 children.)
+    /// answer is bit for bit that variant's (tested); only the lane count differs. (Mesh
+    /// queries on this variant run their small leaf batches and node tests on
+    /// [`Isa::Avx2Fma`]: 16 lanes were slower there.)
     Avx512,
 }
 
