@@ -85,6 +85,13 @@ pub(crate) trait Lanes: Copy {
     fn select(m: Self::M, t: Self, f: Self) -> Self;
     /// Keeps only the exponent bits: the largest power of two not above a positive normal value.
     fn exponent(self) -> Self;
+    /// `1 / self.exponent()`, bit for bit for every input (0 and subnormals give +inf, inf
+    /// and NaN give 0), without a division: for an exponent field `E`, its complement
+    /// `255 - E` (`2047 - E` for f64; `!self & EXP_MASK`) is the field of `2 / 2^(E - bias)`,
+    /// halved exactly by the multiplication (to a subnormal `2^-127` / `2^-1023` for the
+    /// largest exponent). A division's latency (11+ cycles) sat on the critical path of every
+    /// scaling to a power of two (the prescaling, [`V3::unit_pow2`] twice per candidate).
+    fn recip_exponent(self) -> Self;
     /// `col[at[l]]` in lane `l` (panics when an index is out of bounds): lane compaction. One
     /// load per lane through a buffer here; the AVX-512 types use the hardware gather. (AVX2's
     /// gather was tried for the 256-bit types: it halved the compacted stage's throughput on
@@ -308,6 +315,11 @@ macro_rules! scalar_lanes {
                 use crate::real::sealed::Sealed;
                 <$t>::from_bits64(self.bits() & <$t>::EXP_MASK)
             }
+            #[inline(always)]
+            fn recip_exponent(self) -> Self {
+                use crate::real::sealed::Sealed;
+                <$t>::from_bits64(!self.bits() & <$t>::EXP_MASK) * 0.5
+            }
         }
     };
 }
@@ -394,14 +406,12 @@ impl<L: Lanes> V3<L> {
     #[inline(always)]
     pub fn unit_pow2(self) -> Self {
         let k = Cx::of(self.x);
-        let m = self.norm_inf().max(k.splat(L::S::MIN_POSITIVE)).exponent();
-        // 1/m is exact (a power of two); m >= MIN_POSITIVE keeps it finite, and a subnormal
-        // direction scaled by 2^126 (2^1022) is exact too.
-        let r = k.one().div(m);
+        // 1/m, m the largest component's power of two, is exact; m >= MIN_POSITIVE keeps it
+        // finite, and a subnormal direction scaled by 2^126 (2^1022) is exact too.
+        let r = self.norm_inf().max(k.splat(L::S::MIN_POSITIVE)).recip_exponent();
         // two steps for subnormal input: 1/MIN_POSITIVE alone leaves it below 1
         let v = self.scale(r);
-        let m2 = v.norm_inf().max(k.splat(L::S::MIN_POSITIVE)).exponent();
-        v.scale(k.one().div(m2))
+        v.scale(v.norm_inf().max(k.splat(L::S::MIN_POSITIVE)).recip_exponent())
     }
     #[inline(always)]
     pub fn select(m: L::M, t: Self, f: Self) -> Self {

@@ -136,11 +136,12 @@ pub(crate) trait Kernel {
     fn stage<L: Lanes, const ST: u8>(a: &[V3<L>; 3], b: &[V3<L>; 3], prm: &Params<L::S>) -> Out<L>;
 }
 
-/// Input scaled by a power of two: `pts[k] = input[k] / p`; `m` is the largest absolute
-/// coordinate of the input (the magnitude `S`, at least the smallest positive normal).
+/// Input scaled by a power of two: `pts[k] = input[k] / p` (`inv = 1 / p`); `m` is the largest
+/// absolute coordinate of the input (the magnitude `S`, at least the smallest positive normal).
 pub(crate) struct Scaled<L: Lanes, const K: usize> {
     pub pts: [V3<L>; K],
     pub p: L,
+    pub inv: L,
     pub m: L,
     pub finite: L::M,
 }
@@ -161,8 +162,7 @@ pub(crate) fn prescale<L: Lanes, const K: usize>(pts: [V3<L>; K]) -> Scaled<L, K
             m = m.max(a);
         }
     }
-    let p = m.exponent();
-    let inv = k.one().div(p);
+    let (p, inv) = (m.exponent(), m.recip_exponent());
     let mut out = pts;
     for v in out.iter_mut() {
         *v = v.scale(inv);
@@ -174,7 +174,7 @@ pub(crate) fn prescale<L: Lanes, const K: usize>(pts: [V3<L>; K]) -> Scaled<L, K
             *v = V3::select(finite, *v, k.v0());
         }
     }
-    Scaled { pts: out, p, m, finite }
+    Scaled { pts: out, p, inv, m, finite }
 }
 
 /// The raw points of a query as `KA + KB` prescaled points (unused slots are ignored).
@@ -239,7 +239,7 @@ pub(crate) fn conclude<L: Lanes>(
     // consistent with it (within 8 u S, its own rounding): a wrong answer with a narrow
     // interval around the right one is not passed off as right.
     let k = Cx::of(c.lo);
-    let eps = k.u().mul(k.c(8.0)).mul(sc.m.div(sc.p));
+    let eps = k.u().mul(k.c(8.0)).mul(sc.m.mul(sc.inv));
     let lo_e = c.lo.sub(eps).max(k.zero());
     let hi_e = c.hi.add(eps);
     let consistent = r.d.ge(lo_e.mul(lo_e)).and(r.d.le(hi_e.mul(hi_e)));
@@ -270,7 +270,7 @@ pub(crate) fn recertify<L: Lanes, const KA: usize, const KB: usize>(
 ) -> Out<L> {
     let (sc, s, t) = scale_pair::<L, KA, KB>(a, b);
     let k = Cx::of(d);
-    let inv = k.one().div(sc.p);
+    let inv = sc.inv;
     let (p, q) = (p.scale(inv), q.scale(inv));
     // An answer whose square overflowed in the caller's units (documented +inf) is the
     // witness's own squared distance here.
@@ -324,7 +324,7 @@ pub(crate) fn sharp_tight<L: Lanes>(sc: &Scaled<L, 6>, out: &Out<L>) -> L::M {
 #[inline(always)]
 pub(crate) fn accept<L: Lanes>(lo: L, hi: L, sc: &Scaled<L, 6>, prm: &Params<L::S>) -> L::M {
     let k = Cx::of(lo);
-    let inv = k.one().div(sc.p);
+    let inv = sc.inv;
     let tol = k
         .splat(prm.tol_scaled)
         .mul(sc.m.mul(inv))

@@ -53,7 +53,7 @@ pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) 
     // in f32 (found by fuzzing: a point inside it came back 27000 u S away).
     let tri_edges = [ab, cv.sub(b), a.sub(cv)];
     let n = normal(&tri_edges);
-    let n = n.scale(k.one().div(n.norm_inf().max(k.splat(L::S::MIN_POSITIVE)).exponent()));
+    let n = n.scale(n.norm_inf().max(k.splat(L::S::MIN_POSITIVE)).recip_exponent());
     let (xa, xb, xc) = (a.sub(x), b.sub(x), cv.sub(x));
     let vc = n.dot(xa.cross_accurate(xb));
     let m_ab = vc.le(z).and(d1.ge(z)).and(d3.le(z)).andnot(done);

@@ -19,7 +19,7 @@ impl Kernel for Within {
     fn stage<L: Lanes, const ST: u8>(a: &[V3<L>; 3], b: &[V3<L>; 3], prm: &Params<L::S>) -> Out<L> {
         let (sc, s, t) = scale_pair::<L, 3, 3>(a, b);
         let k = Cx::of(sc.p);
-        let inv = k.one().div(sc.p);
+        let inv = sc.inv;
         let m = k.splat(prm.margin).mul(inv);
         // The box gap (prescaled) is a lower bound of the exact distance up to the rounding of
         // the coordinate differences (relative u). The full query's answer may be off the exact

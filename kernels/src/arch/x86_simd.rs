@@ -304,6 +304,13 @@ macro_rules! vec_type {
                 // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
                 Self(unsafe { $and(self.0, $set1(m)) }, self.1)
             }
+            #[inline(always)]
+            fn recip_exponent(self) -> Self {
+                use crate::real::sealed::Sealed;
+                let m = <$s>::from_bits(<$s as Sealed>::EXP_MASK as $bits);
+                // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
+                Self(unsafe { $mul($andnot(self.0, $set1(m)), $set1(0.5)) }, self.1)
+            }
             $(
                 #[inline(always)]
                 fn gather(k: K, col: &[$s], at: &[usize; MAX_LANES]) -> Self {
@@ -677,4 +684,66 @@ mod avx512 {
         (F64x8<Avx512>),
         (F64x4<Avx512>)
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::isa::Portable;
+    use crate::real::sealed::Sealed;
+    use crate::real::Real;
+
+    /// Every exponent field (subnormals, normals, inf and NaN) with four mantissas and both signs.
+    fn samples<S: Real>() -> Vec<S> {
+        let mant = S::EXP_MASK.trailing_zeros();
+        let mut out = Vec::new();
+        for e in 0..=S::EXP_MASK >> mant {
+            for m in [0, 1, 1 << (mant - 1), (1 << mant) - 1] {
+                for sign in [0, 1 << (S::WIDTH - 1)] {
+                    out.push(S::from_bits64(sign | e << mant | m));
+                }
+            }
+        }
+        out
+    }
+
+    /// `recip_exponent` is `1 / exponent` bit for bit, lane by lane, for every input.
+    fn recip_exponent_is_exact<L: Lanes>(k: L::K) -> usize {
+        let xs = samples::<L::S>();
+        for part in xs.chunks(L::N) {
+            let mut buf = [L::S::ZERO; MAX_LANES];
+            buf[..part.len()].copy_from_slice(part);
+            let x = L::load(k, &buf);
+            let (mut got, mut want) = ([L::S::ZERO; MAX_LANES], [L::S::ZERO; MAX_LANES]);
+            x.recip_exponent().store(&mut got);
+            L::splat(k, L::S::ONE).div(x.exponent()).store(&mut want);
+            for (l, &xl) in part.iter().enumerate() {
+                assert_eq!(got[l].bits(), want[l].bits(), "{} lanes, input bits {:#x}", L::N, xl.bits());
+            }
+        }
+        xs.len()
+    }
+
+    #[test]
+    fn recip_exponent_is_the_exact_reciprocal_on_every_lane_type() {
+        assert_eq!(recip_exponent_is_exact::<f32>(Portable), 256 * 8);
+        assert_eq!(recip_exponent_is_exact::<f64>(Portable), 2048 * 8);
+        if let Some(k) = Sse41::detect() {
+            recip_exponent_is_exact::<F32x4<Sse41>>(k);
+            recip_exponent_is_exact::<F64x2<Sse41>>(k);
+        }
+        #[cfg(feature = "avx")]
+        if let Some(k) = Avx::detect() {
+            recip_exponent_is_exact::<F32x8<Avx>>(k);
+            recip_exponent_is_exact::<F64x4<Avx>>(k);
+        }
+        if let Some(k) = Avx2Fma::detect() {
+            recip_exponent_is_exact::<F32x8<Avx2Fma>>(k);
+            recip_exponent_is_exact::<F64x4<Avx2Fma>>(k);
+        }
+        if let Some(k) = Avx512::detect() {
+            recip_exponent_is_exact::<F32x16<Avx512>>(k);
+            recip_exponent_is_exact::<F64x8<Avx512>>(k);
+        }
+    }
 }
