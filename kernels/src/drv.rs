@@ -25,7 +25,7 @@
 
 use crate::algo::{Kernel, Params};
 use crate::isa::Token;
-use crate::lanes::{Lanes, Mask, MAX_LANES, V3};
+use crate::lanes::{GatherIx, Lanes, Mask, MAX_LANES, V3};
 use crate::query::Query;
 use crate::real::{Precision, Real};
 use crate::types::{ClosestPoints, Intersection, Interval, PathCounts, Point};
@@ -167,14 +167,18 @@ impl<'a, T: Real> Src<'a, T> {
         let k = self.k();
         match *self {
             Src::Soa { data, cap, base, .. } => {
+                let ix = GatherIx::new(at);
                 for (j, c) in coord.iter_mut().enumerate().take(3 * k) {
-                    *c = L::gather(kk, &data[j * cap + base..], &at);
+                    *c = L::gather(kk, &data[j * cap + base..], &ix);
                 }
             }
             Src::Aos { flat, .. } => {
-                let at = at.map(|i| i * 3 * k);
+                for a in at.iter_mut() {
+                    *a *= 3 * k;
+                }
+                let ix = GatherIx::new(at);
                 for (j, c) in coord.iter_mut().enumerate().take(3 * k) {
-                    *c = L::gather(kk, &flat[j..], &at);
+                    *c = L::gather(kk, &flat[j..], &ix);
                 }
             }
             Src::One { flat, .. } => {

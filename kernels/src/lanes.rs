@@ -19,11 +19,31 @@ use crate::real::Real;
 /// and of the batch columns' padding.
 pub(crate) const MAX_LANES: usize = 16;
 
+/// The lane indices of one [`Lanes::gather`] group, prepared once for all its columns: the
+/// indices, their largest, and (for the hardware gathers) as 32-bit offsets, valid when the
+/// column's length fits in `i32` (then every index below it does).
+pub(crate) struct GatherIx {
+    pub at: [usize; MAX_LANES],
+    pub off: [i32; MAX_LANES],
+    pub top: usize,
+}
+
+impl GatherIx {
+    #[inline(always)]
+    pub(crate) fn new(at: [usize; MAX_LANES]) -> Self {
+        let mut off = [0i32; MAX_LANES];
+        for (o, &i) in off.iter_mut().zip(&at) {
+            *o = i as i32;
+        }
+        GatherIx { at, off, top: at.iter().fold(0, |m, &i| m.max(i)) }
+    }
+}
+
 /// [`Lanes::gather`] one lane at a time, through a buffer.
 #[inline(always)]
-pub(crate) fn gather_lanes<L: Lanes>(k: L::K, col: &[L::S], at: &[usize; MAX_LANES]) -> L {
+pub(crate) fn gather_lanes<L: Lanes>(k: L::K, col: &[L::S], ix: &GatherIx) -> L {
     let mut buf = [L::S::ZERO; MAX_LANES];
-    for (slot, &i) in buf.iter_mut().zip(at).take(L::N) {
+    for (slot, &i) in buf.iter_mut().zip(&ix.at).take(L::N) {
         *slot = col[i];
     }
     L::load(k, &buf)
@@ -92,13 +112,13 @@ pub(crate) trait Lanes: Copy {
     /// largest exponent). A division's latency (11+ cycles) sat on the critical path of every
     /// scaling to a power of two (the prescaling, [`V3::unit_pow2`] twice per candidate).
     fn recip_exponent(self) -> Self;
-    /// `col[at[l]]` in lane `l` (panics when an index is out of bounds): lane compaction. One
+    /// `col[ix.at[l]]` in lane `l` (panics when an index is out of bounds): lane compaction. One
     /// load per lane through a buffer here; the AVX-512 types use the hardware gather. (AVX2's
     /// gather was tried for the 256-bit types: it halved the compacted stage's throughput on
     /// the AMD EPYC reference machine, `spin tri_tri random f32 avx2fma 2`.)
     #[inline(always)]
-    fn gather(k: Self::K, col: &[Self::S], at: &[usize; MAX_LANES]) -> Self {
-        gather_lanes(k, col, at)
+    fn gather(k: Self::K, col: &[Self::S], ix: &GatherIx) -> Self {
+        gather_lanes(k, col, ix)
     }
 
     #[inline(always)]

@@ -22,7 +22,7 @@ use core::arch::x86_64::*;
 use crate::algo::nodes::NodeTest;
 use crate::drv::Job;
 use crate::isa::{entry_modules, Isa, Token};
-use crate::lanes::{Lanes, Mask, MAX_LANES};
+use crate::lanes::{GatherIx, Lanes, Mask};
 use crate::mesh::MAX_WIDTH;
 use crate::query::{for_each_query, Query};
 
@@ -313,10 +313,10 @@ macro_rules! vec_type {
             }
             $(
                 #[inline(always)]
-                fn gather(k: K, col: &[$s], at: &[usize; MAX_LANES]) -> Self {
-                    match $gather(k, col, at) {
+                fn gather(k: K, col: &[$s], ix: &GatherIx) -> Self {
+                    match $gather(k, col, ix) {
                         Some(v) => Self(v, k),
-                        None => crate::lanes::gather_lanes(k, col, at),
+                        None => crate::lanes::gather_lanes(k, col, ix),
                     }
                 }
             )?
@@ -517,21 +517,16 @@ macro_rules! avx512_forms {
 macro_rules! gather512 {
     ($name:ident, $s:ty, $reg:ty, $n:expr, $ix:ty, $load_ix:ident, $gather:ident, $scale:expr) => {
         #[inline(always)]
-        fn $name<K: HasAvx512>(_: K, col: &[$s], at: &[usize; MAX_LANES]) -> Option<$reg> {
-            let mut off = [0i32; $n];
-            let mut top = 0;
-            for (o, &i) in off.iter_mut().zip(at) {
-                top = top.max(i);
-                *o = i as i32;
-            }
-            if top >= col.len() || col.len() > i32::MAX as usize {
+        fn $name<K: HasAvx512>(_: K, col: &[$s], ix: &GatherIx) -> Option<$reg> {
+            if ix.top >= col.len() || col.len() > i32::MAX as usize {
                 return None;
             }
-            // SAFETY: every offset is below `col.len()` (checked above) and fits in i32, so
-            // each lane reads an element of `col`; `off` has the index vector's size; the
-            // first argument is a token: detection found AVX-512F (module docs).
+            // SAFETY: every offset is at most `ix.top`, below `col.len()` (checked above),
+            // and `ix.off` holds them exactly as `col.len()` fits in i32, so each lane reads an
+            // element of `col`; `ix.off` has at least the index vector's size; the first
+            // argument is a token: detection found AVX-512F (module docs).
             Some(unsafe {
-                let ix: $ix = $load_ix(off.as_ptr().cast());
+                let ix: $ix = $load_ix(ix.off.as_ptr().cast());
                 $gather::<$scale>(ix, col.as_ptr().cast())
             })
         }
@@ -690,6 +685,7 @@ mod avx512 {
 mod tests {
     use super::*;
     use crate::isa::Portable;
+    use crate::lanes::MAX_LANES;
     use crate::real::sealed::Sealed;
     use crate::real::Real;
 
