@@ -229,8 +229,6 @@ pub(crate) fn tri_tri_quick<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut
     let k = Cx::of(t[0].x);
     let (z, one) = (k.zero(), k.one());
     let tiny = k.splat(L::S::MIN_POSITIVE);
-    let e = [s[1], s[2].sub(s[1]), s[2].neg()];
-    let f = [t[1].sub(t[0]), t[2].sub(t[1]), t[0].sub(t[2])];
     // three times the centroids' difference (s[0] = 0), and every vertex's projection on it;
     // the edge opposite the rearmost vertex is edge (rear + 1) mod 3
     let c = t[0].add(t[1]).add(t[2]).sub(s[1]).sub(s[2]);
@@ -238,23 +236,24 @@ pub(crate) fn tri_tri_quick<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut
     let (i1, i2) = (r1.or(r2).not(), r1);
     let (r1, r2) = extreme([c.dot(t[0]), c.dot(t[1]), c.dot(t[2])], false);
     let (j1, j2) = (r1.or(r2).not(), r1);
-    let (si, ei, tj, fj) = (pick(i1, i2, s), pick(i1, i2, &e), pick(j1, j2, t), pick(j1, j2, &f));
+    // the front edges from their first vertices to the next ones: edge i is s[i+1] - s[i]
+    // (the same operation as [`tri_tri_fast`]'s edges, also for s[0] = 0)
+    let (i0, j0) = (i1.or(i2).not(), j1.or(j2).not());
+    let (si, sn, tj, tn) = (pick(i1, i2, s), pick(i0, i1, s), pick(j1, j2, t), pick(j0, j1, t));
+    let (ei, fj) = (sn.sub(si), tn.sub(tj));
     let (iea, ifb) = (one.div(ei.norm2().max(tiny)), one.div(fj.norm2().max(tiny)));
     let (d, a, b) = edge_pair(si, ei, iea, tj, fj, ifb);
     // the answer and its certification direction, as [`rebuild`] makes them for an edge pair
-    let (mut p, mut q) = (si.add_scaled(ei, a), tj.add_scaled(fj, b));
+    let (p, q) = (si.add_scaled(ei, a), tj.add_scaled(fj, b));
     // A vertex shared by the front edges (mesh neighbours; identical triangles share all
     // three, and two front edges of three vertices share one) is answered exactly: distance
     // 0 at that vertex, as the full stage's contact candidate answers it, not the edge pair's
-    // rounding of it (1e-32 where the edges meet at an angle).
-    let (i0, j0) = (i1.or(i2).not(), j1.or(j2).not());
-    let (sn, tn) = (pick(i0, i1, s), pick(j0, j1, t));
-    let mut shared = k.no();
-    for (x, y) in [(si, tj), (si, tn), (sn, tj), (sn, tn)] {
-        let m = x.x.eq(y.x).and(x.y.eq(y.y)).and(x.z.eq(y.z)).andnot(shared);
-        (p, q) = (V3::select(m, x, p), V3::select(m, x, q));
-        shared = shared.or(m);
-    }
+    // rounding of it (1e-32 where the edges meet at an angle). The first of the four vertex
+    // pairs that match, in this order: (si, tj), (si, tn), (sn, tj), (sn, tn).
+    let at_si = same(si, tj).or(same(si, tn));
+    let shared = at_si.or(same(sn, tj)).or(same(sn, tn));
+    let x = V3::select(at_si, si, sn);
+    let (p, q) = (V3::select(shared, x, p), V3::select(shared, x, q));
     let d = L::select(shared, z, d);
     let w = q.sub(p);
     let both = interior(a).and(interior(b)).andnot(shared);
@@ -272,6 +271,13 @@ pub(crate) fn tri_tri_quick<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut
     // suites); an intersecting pair needs the full stage's contact candidate.
     let sharp = excess.le(k.u().mul(k.c(SHARP))).and(lo.gt(z).or(shared));
     FastOut { r: Res { d, p, q }, lo, hi, sharp }
+}
+
+/// Are two points the same (every coordinate equal)? (A function, not a closure: see
+/// [`straddles`].)
+#[inline(always)]
+fn same<L: Lanes>(x: V3<L>, y: V3<L>) -> L::M {
+    x.x.eq(y.x).and(x.y.eq(y.y)).and(x.z.eq(y.z))
 }
 
 /// How far (in units of `u`, prescaled: of `u S` at least) the quick stage's candidate may be
