@@ -3,7 +3,7 @@
 
 use std::sync::OnceLock;
 
-use crate::algo::nodes::NodeTest;
+use crate::algo::nodes::{Columns, NodeTest};
 use crate::drv::Job;
 use crate::mesh::MAX_WIDTH;
 use crate::query::{for_each_query, Query};
@@ -111,6 +111,9 @@ pub(crate) trait Token: Copy + 'static {
     fn run_f64(self, job: &mut Job<'_, f64>);
     /// The mesh traversal's node test on this instruction set ([`crate::algo::nodes::gaps`]).
     fn node_gaps(self, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]);
+    /// The mesh traversal's moved node bounds on this instruction set
+    /// ([`crate::algo::nodes::columns`]).
+    fn node_columns(self, job: &mut Columns<'_>);
 }
 
 /// The token of the portable (scalar) variant: always available.
@@ -162,6 +165,9 @@ macro_rules! portable_entries {
             fn node_gaps(self, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]) {
                 crate::algo::nodes::gaps::<f64>(self, t, out)
             }
+            fn node_columns(self, job: &mut Columns<'_>) {
+                crate::algo::nodes::columns::<f64>(self, job)
+            }
         }
     };
 }
@@ -208,3 +214,4 @@ macro_rules! run_for {
 run_for!(run_f32, job: &mut Job<'_, f32>);
 run_for!(run_f64, job: &mut Job<'_, f64>);
 run_for!(node_gaps, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]);
+run_for!(node_columns, job: &mut Columns<'_>);

@@ -51,7 +51,7 @@
 //! exceeds the best answer (issue #15: 43 % less time than depth first over the 12 poses of
 //! `cargo bench -p tridist-benches --bench kernels -- 'mesh/arm_fandisk/.*/distance$'`).
 
-use crate::algo::nodes::{Column, NodeTest, C, DOWN, E, ERR, H, HI, LEN, LO, N1, OWN, RHO, ROWS};
+use crate::algo::nodes::{Column, Columns, NodeTest, DOWN, HI, LO, ROWS, SC, SE, SH, SHI, SLO, SRHO, SROWS};
 use crate::engine::Outputs;
 use crate::{ClosestPoints, Engine, Error, Intersection, Point, Pose, Query, Real, Triangle};
 
@@ -99,8 +99,11 @@ pub struct Mesh<T> {
     vertices: Vec<Point<T>>,
     triangles: Vec<[u32; 3]>,
     nodes: Vec<Node>,
-    /// Per node, an oriented box of its triangles (same index as `nodes`).
-    obbs: Vec<Obb>,
+    /// Per node, its oriented box (an `Obb` fitted to its vertices) and its axis-aligned box,
+    /// as rows ([`crate::algo::nodes::SROWS`]; row `r` of node `i` at `r * bounds_stride + i`,
+    /// the nodes past the last copies of it).
+    bounds: Vec<f64>,
+    bounds_stride: usize,
     /// Triangle numbers in leaf order.
     order: Vec<u32>,
     /// Most children of a node.
@@ -210,8 +213,15 @@ impl<T: Real> Mesh<T> {
                 }
             }
         }
-        let mut m =
-            Mesh { vertices, triangles, nodes: Vec::new(), obbs: Vec::new(), order: Vec::new(), width };
+        let mut m = Mesh {
+            vertices,
+            triangles,
+            nodes: Vec::new(),
+            bounds: Vec::new(),
+            bounds_stride: 0,
+            order: Vec::new(),
+            width,
+        };
         m.build();
         Ok(m)
     }
@@ -361,7 +371,7 @@ impl<T: Real> Mesh<T> {
         // about six triangles): `seen[v]` is the last node that took vertex `v`.
         let mut seen = vec![u32::MAX; verts.len()];
         let mut pts: Vec<[f64; 3]> = Vec::new();
-        self.obbs = (0..self.nodes.len())
+        let obbs: Vec<Obb> = (0..self.nodes.len())
             .map(|id| {
                 let b = &bins[of[id]];
                 pts.clear();
@@ -377,31 +387,46 @@ impl<T: Real> Mesh<T> {
             })
             .collect();
         self.order = items.iter().map(|it| it.tri).collect();
+        // 4. Both bounds of every node as rows ([`crate::algo::nodes::SROWS`]), padded with
+        // copies of the last node so that a group's lanes past the children read real nodes.
+        let stride = self.nodes.len() + MAX_WIDTH;
+        let mut rows = vec![0.0; SROWS * stride];
+        for j in 0..stride {
+            let i = j.min(self.nodes.len() - 1);
+            let (o, n) = (&obbs[i], &self.nodes[i]);
+            let mut put = |r: usize, x: f64| rows[r * stride + j] = x;
+            for k in 0..3 {
+                put(SC + k, o.c[k]);
+                put(SH + k, o.h[k]);
+                put(SLO + k, n.lo[k]);
+                put(SHI + k, n.hi[k]);
+                for q in 0..3 {
+                    put(SE + 3 * k + q, o.e[k][q]);
+                }
+            }
+            put(SRHO, o.rho);
+        }
+        (self.bounds, self.bounds_stride) = (rows, stride);
     }
 
-    /// Node `i`'s box moved by `pose` (see [`Moved`]).
+    /// Node `i`'s box moved by `pose` ([`crate::algo::nodes::moved_aabb`], as the node tests'
+    /// columns move it).
     fn moved_box(&self, i: usize, pose: &Moved) -> ([f64; 3], [f64; 3]) {
         let n = &self.nodes[i];
-        let (mut c, mut h) = ([0.0; 3], [0.0; 3]);
-        for k in 0..3 {
-            (c[k], h[k]) = (0.5 * n.lo[k] + 0.5 * n.hi[k], 0.5 * n.hi[k] - 0.5 * n.lo[k]);
-        }
-        let mut lo = [0.0; 3];
-        let mut hi = [0.0; 3];
-        for r in 0..3 {
-            let (mut cr, mut hr, mut mag) = (pose.t[r], 0.0, pose.t[r].abs());
-            for k in 0..3 {
-                cr += pose.r[r][k] * c[k];
-                hr += pose.r[r][k].abs() * h[k];
-                mag += pose.r[r][k].abs() * (c[k].abs() + h[k]);
-            }
-            // The motion in the working precision is within `3 u mag` of the exact one (Pose),
-            // this f64 arithmetic within `8 eps64 mag`; the half-width is enlarged by both.
-            let slack = mag * pose.rel;
-            lo[r] = cr - hr - slack;
-            hi[r] = cr + hr + slack;
-        }
-        (lo, hi)
+        crate::algo::nodes::moved_aabb::<f64>(crate::isa::Portable, pose, &n.lo, &n.hi)
+    }
+
+    /// The job of computing the moved bounds of nodes `first..first + n` into `out` (row `r`
+    /// of node `first + j` at `r * out_stride + j`).
+    fn columns<'a>(
+        &'a self,
+        mv: &'a Moved,
+        first: usize,
+        n: usize,
+        out: &'a mut [f64],
+        out_stride: usize,
+    ) -> Columns<'a> {
+        Columns { mv, src: &self.bounds, src_stride: self.bounds_stride, first, n, out, out_stride }
     }
 }
 
@@ -593,12 +618,12 @@ impl Obb {
 }
 
 /// A pose in f64 with the relative slack that makes moved boxes contain the moved vertices.
-struct Moved {
-    r: [[f64; 3]; 3],
-    t: [f64; 3],
-    rel: f64,
+pub(crate) struct Moved {
+    pub(crate) r: [[f64; 3]; 3],
+    pub(crate) t: [f64; 3],
+    pub(crate) rel: f64,
     /// The Frobenius norm of `r` rounded up: how much the rotation can stretch a ball.
-    frob: f64,
+    pub(crate) frob: f64,
 }
 
 impl Moved {
@@ -618,47 +643,13 @@ impl Moved {
     /// with `ERR`, a bound of the rounding of the computed `c'`, `e_i'` (1-norms, the `e_i'`
     /// weighted by `h_i`), and `RHO` grown by the ball's growth and the rounding of the
     /// vertices' motion in the working precision; `OWN`, `LEN`, `N1`: the box's radius along,
-    /// and the length and 1-norm of, each of its own axes, computed once per moved box.
+    /// and the length and 1-norm of, each of its own axes, computed once per moved box. One
+    /// node in the portable code ([`crate::algo::nodes::columns`]; a group of children is
+    /// computed on the engine's lanes by [`Side::group`], to the same numbers).
     fn column<T: Real>(&self, mesh: &Mesh<T>, i: usize) -> Column {
-        let (o, n) = (&mesh.obbs[i], &mesh.nodes[i]);
-        let r = &self.r;
-        // (loops, not array maps: those were left as calls on this hot path)
-        let (mut c, mut e) = ([0.0; 3], [[0.0; 3]; 3]);
-        for k in 0..3 {
-            c[k] = dot(&r[k], &o.c) + self.t[k];
-            for i in 0..3 {
-                e[i][k] = dot(&r[k], &o.e[i]);
-            }
-        }
-        let (mut big, mut slack) = (0.0, 0.0);
-        for k in 0..3 {
-            let (mut b, mut v) = (self.t[k].abs(), self.t[k].abs());
-            for j in 0..3 {
-                let w = o.h[0] * o.e[0][j].abs() + o.h[1] * o.e[1][j].abs() + o.h[2] * o.e[2][j].abs();
-                b += r[k][j].abs() * (o.c[j].abs() + w);
-                v += r[k][j].abs() * n.lo[j].abs().max(n.hi[j].abs());
-            }
-            big += b;
-            // the vertices' motion in the working precision (as in `moved_box`)
-            slack += v * self.rel;
-        }
         let mut col = [0.0; ROWS];
-        let (lo, hi) = mesh.moved_box(i, self);
-        for k in 0..3 {
-            col[LO + k] = lo[k];
-            col[HI + k] = hi[k];
-            col[C + k] = c[k];
-            col[H + k] = o.h[k];
-            // the box's radius along its own axis k: sum_i h_i |e_i . e_k|
-            col[OWN + k] = (0..3).map(|i| o.h[i] * dot(&e[i], &e[k]).abs()).sum();
-            col[LEN + k] = dot(&e[k], &e[k]).sqrt() * (1.0 + 1e-12);
-            col[N1 + k] = norm1(&e[k]);
-            for j in 0..3 {
-                col[E + 3 * k + j] = e[k][j];
-            }
-        }
-        col[RHO] = o.rho * self.frob + slack;
-        col[ERR] = 32.0 * f64::EPSILON * big;
+        let mut job = mesh.columns(self, i, 1, &mut col, 1);
+        crate::isa::node_columns(crate::Isa::Scalar, &mut job);
         col
     }
 
@@ -901,9 +892,10 @@ impl<'m, T: Real> Side<'m, T> {
     }
 
     /// The moved bounds of internal node `i`'s children as a group ([`NodeTest::group`]): its
-    /// offset in `Slots::groups`, computed on first use. The lanes past the last child repeat
-    /// the first child.
-    fn group(&mut self, i: u32) -> usize {
+    /// offset in `Slots::groups`, computed on first use by the node columns of `isa`
+    /// ([`crate::algo::nodes::columns`], a lane per child). The lanes past the last child hold
+    /// the next nodes' bounds (real nodes: the mesh pads its rows).
+    fn group(&mut self, isa: crate::Isa, i: u32) -> usize {
         let size = ROWS * self.stride;
         let k = self.slots.entry(i)[4];
         if k != u32::MAX {
@@ -912,18 +904,13 @@ impl<'m, T: Real> Side<'m, T> {
         let node = self.mesh.nodes[i as usize];
         let at = self.new_group();
         self.slots.entry(i)[4] = (at / size) as u32;
-        let first = self.mv.column(self.mesh, node.first as usize);
-        for j in 0..self.stride {
-            let child = node.first + j as u32;
-            if j < node.kids as usize {
-                let col = if j == 0 { first } else { self.mv.column(self.mesh, child as usize) };
-                self.put(at + j, &col);
-                let e = self.slots.entry(child);
-                if e[1] == u32::MAX {
-                    (e[1], e[2]) = ((at / size) as u32, j as u32);
-                }
-            } else {
-                self.put(at + j, &first);
+        let out = &mut self.slots.groups[at..at + size];
+        let mut job = self.mesh.columns(&self.mv, node.first as usize, self.stride, out, self.stride);
+        crate::isa::node_columns(isa, &mut job);
+        for j in 0..node.kids {
+            let e = self.slots.entry(node.first + j);
+            if e[1] == u32::MAX {
+                (e[1], e[2]) = ((at / size) as u32, j);
             }
         }
         at
@@ -973,7 +960,7 @@ fn siblings<T: Real>(
     out: &mut Vec<Visit>,
 ) {
     let (n, first) = (side.mesh.nodes[p as usize].kids as usize, side.mesh.nodes[p as usize].first);
-    let (at, fixed_at) = (side.group(p), other.bounds_at(f));
+    let (at, fixed_at) = (side.group(isa, p), other.bounds_at(f));
     let (gap, lim) = node_test(isa, (side, at, n), (other, fixed_at), |x, y| s.limit(x, y));
     for j in 0..n {
         if gap[j] <= lim[j] {
@@ -1772,8 +1759,111 @@ mod tests {
         lim: f64,
     ) -> [f64; super::MAX_WIDTH] {
         let n = sa.mesh.nodes[p as usize].kids as usize;
-        let (at, fixed_at) = (sa.group(p), sb.bounds_at(f));
+        let (at, fixed_at) = (sa.group(isa, p), sb.bounds_at(f));
         super::node_test(isa, (sa, at, n), (sb, fixed_at), |_, _| lim).0
+    }
+
+    /// Checks the moved bounds of every node of `m` in `pose` (see the test below); returns how
+    /// many vertices were checked.
+    fn check_columns<T: crate::Real>(m: &super::Mesh<T>, pose: &crate::Pose<T>) -> usize {
+        use super::*;
+        let isas: Vec<crate::Isa> = crate::Isa::ALL.into_iter().filter(|i| i.is_available()).collect();
+        let mv = Moved::of(pose);
+        let stride = m.width.next_multiple_of(4);
+        for p in (0..m.nodes.len()).filter(|&p| m.nodes[p].count == 0) {
+            let first = m.nodes[p].first as usize;
+            let mut want = vec![0.0; ROWS * stride];
+            crate::isa::node_columns(
+                crate::Isa::Scalar,
+                &mut m.columns(&mv, first, stride, &mut want, stride),
+            );
+            for &isa in &isas {
+                let mut got = vec![0.0; ROWS * stride];
+                crate::isa::node_columns(isa, &mut m.columns(&mv, first, stride, &mut got, stride));
+                for (r, (g, w)) in got.iter().zip(&want).enumerate() {
+                    assert_eq!(
+                        g.to_bits(),
+                        w.to_bits(),
+                        "{isa}: children of {p}, row {} lane {}",
+                        r / stride,
+                        r % stride
+                    );
+                }
+            }
+            for j in 0..stride {
+                let one = mv.column(m, first + j);
+                for r in 0..ROWS {
+                    assert_eq!(
+                        one[r].to_bits(),
+                        want[r * stride + j].to_bits(),
+                        "node {} row {r}",
+                        first + j
+                    );
+                }
+            }
+        }
+        let mut checked = 0;
+        for i in 0..m.nodes.len() {
+            let col = mv.column(m, i);
+            let (mut todo, mut tris) = (vec![i], Vec::new());
+            while let Some(n) = todo.pop() {
+                let node = m.nodes[n];
+                if node.count > 0 {
+                    tris.extend_from_slice(&m.order[node.first as usize..(node.first + node.count) as usize]);
+                } else {
+                    todo.extend(node.first as usize..(node.first + node.kids) as usize);
+                }
+            }
+            for &t in &tris {
+                for v in m.triangle_at(t as usize, pose) {
+                    for k in 0..3 {
+                        let x = v[k].to_f64();
+                        assert!(
+                            col[LO + k] <= x && x <= col[HI + k],
+                            "node {i}: moved vertex {x:e} outside [{:e}, {:e}]",
+                            col[LO + k],
+                            col[HI + k]
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        checked
+    }
+
+    /// The moved bounds of every node (`crate::algo::nodes::columns`) on every instruction
+    /// set this CPU runs are the portable code's, bit for bit (they are computed unfused), for
+    /// groups of children and single nodes alike; and every node's moved axis-aligned box
+    /// contains every vertex under it as `Pose::apply` moves it in the mesh's precision
+    /// (exact comparisons: the box's slack must cover the motion's rounding). Random meshes of
+    /// every tree width, near and far from the origin, f32 and f64, in rotated poses.
+    #[test]
+    fn moved_columns_agree_across_instruction_sets_and_contain_the_moved_vertices() {
+        use super::*;
+        let mut rnd = uniform(0x51_7cc1_b727_220a);
+        let mut checked = 0;
+        for &(size, offset) in &[(1.0, 0.0), (1e-3, 1e4), (1e3, -1e2)] {
+            for w in [2, 3, 4, 8] {
+                let (mut v, mut t) = (Vec::new(), Vec::new());
+                for k in 0..40u32 {
+                    let c = [rnd(), rnd(), rnd()];
+                    for _ in 0..3 {
+                        v.push([0, 1, 2].map(|i| offset + size * (c[i] + 0.15 * rnd())));
+                    }
+                    t.push([3 * k, 3 * k + 1, 3 * k + 2]);
+                }
+                let axis = [rnd(), rnd(), rnd()];
+                let (angle, shift) = (7.0 * rnd(), [0, 1, 2].map(|_| size * rnd()));
+                let m64 = Mesh::with_width(v.clone(), t.clone(), w).expect("mesh");
+                checked += check_columns(&m64, &Pose::from_axis_angle(axis, angle, shift));
+                let v32: Vec<[f32; 3]> = v.iter().map(|p| p.map(|x| x as f32)).collect();
+                let m32 = Mesh::with_width(v32, t, w).expect("mesh");
+                let p32 = Pose::from_axis_angle(axis.map(|x| x as f32), angle, shift.map(|x| x as f32));
+                checked += check_columns(&m32, &p32);
+            }
+        }
+        assert!(checked > 10_000, "only {checked} coordinates checked");
     }
 
     /// Uniform numbers in [-0.5, 0.5) from a xorshift generator seeded with `seed`.

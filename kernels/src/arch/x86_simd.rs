@@ -19,7 +19,7 @@
 
 use core::arch::x86_64::*;
 
-use crate::algo::nodes::NodeTest;
+use crate::algo::nodes::{Columns, NodeTest};
 use crate::drv::Job;
 use crate::isa::{entry_modules, Isa, Token};
 use crate::lanes::{GatherIx, Lanes, Mask};
@@ -638,11 +638,20 @@ macro_rules! simd_entries {
                 // SAFETY: as above.
                 unsafe { node_gaps(self, t, out) }
             }
+            fn node_columns(self, job: &mut Columns<'_>) {
+                // SAFETY: as above.
+                unsafe { node_columns(self, job) }
+            }
         }
         /// The mesh traversal's node test with the instruction set enabled.
         #[target_feature(enable = $feat)]
         fn node_gaps(k: $tok, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]) {
             crate::algo::nodes::gaps::<$node>(k, t, out)
+        }
+        /// The mesh traversal's moved node bounds with the instruction set enabled.
+        #[target_feature(enable = $feat)]
+        fn node_columns(k: $tok, job: &mut Columns<'_>) {
+            crate::algo::nodes::columns::<$node>(k, job)
         }
     };
 }
