@@ -86,13 +86,20 @@ pub(crate) fn columns<L: Lanes<S = f64>>(k: L::K, job: &mut Columns<'_>) {
     let mv = job.mv;
     let mut base = 0;
     while base < job.n {
-        let at = job.first + base;
-        let s = |r: usize| L::load(k, &job.src[r * job.src_stride + at..]);
-        let oc = [s(SC), s(SC + 1), s(SC + 2)];
-        let oh = [s(SH), s(SH + 1), s(SH + 2)];
-        let ax = |i: usize| [s(SE + 3 * i), s(SE + 3 * i + 1), s(SE + 3 * i + 2)];
-        let oe = [ax(0), ax(1), ax(2)];
-        let (nlo, nhi) = ([s(SLO), s(SLO + 1), s(SLO + 2)], [s(SHI), s(SHI + 1), s(SHI + 2)]);
+        // (a loop, not a closure per row: closures compile without the instruction set's
+        // features, and their loads stayed calls)
+        let mut s = [c(0.0); SROWS];
+        for (r, x) in s.iter_mut().enumerate() {
+            *x = L::load(k, &job.src[r * job.src_stride + job.first + base..]);
+        }
+        let oc = [s[SC], s[SC + 1], s[SC + 2]];
+        let oh = [s[SH], s[SH + 1], s[SH + 2]];
+        let oe = [
+            [s[SE], s[SE + 1], s[SE + 2]],
+            [s[SE + 3], s[SE + 4], s[SE + 5]],
+            [s[SE + 6], s[SE + 7], s[SE + 8]],
+        ];
+        let (nlo, nhi) = ([s[SLO], s[SLO + 1], s[SLO + 2]], [s[SHI], s[SHI + 1], s[SHI + 2]]);
         let mut col = [c(0.0); ROWS];
         let (mut big, mut slack) = (c(0.0), c(0.0));
         let mut e = [[c(0.0); 3]; 3];
@@ -133,7 +140,7 @@ pub(crate) fn columns<L: Lanes<S = f64>>(k: L::K, job: &mut Columns<'_>) {
                 col[E + 3 * q + j] = e[q][j];
             }
         }
-        col[RHO] = s(SRHO).mul(c(mv.frob)).add(slack);
+        col[RHO] = s[SRHO].mul(c(mv.frob)).add(slack);
         col[ERR] = c(32.0 * f64::EPSILON).mul(big);
         for (r, x) in col.iter().enumerate() {
             x.store(&mut job.out[r * job.out_stride + base..]);
