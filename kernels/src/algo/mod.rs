@@ -154,14 +154,18 @@ pub(crate) fn prescale<L: Lanes, const K: usize>(pts: [V3<L>; K]) -> Scaled<L, K
     let k = Cx::of(pts[0].x);
     let big = k.splat(L::S::MAX);
     let mut m = k.splat(L::S::MIN_POSITIVE);
-    let mut finite = k.yes();
+    // Finite when no coordinate is NaN (their sum is not NaN; a finite sum may overflow to
+    // inf, which the second test does not read) and none is infinite (then the largest, a true
+    // maximum without NaN, is at most MAX): two comparisons instead of one per coordinate.
+    let mut sum = k.zero();
     for v in &pts {
         for x in [v.x, v.y, v.z] {
             let a = x.abs();
-            finite = finite.and(a.le(big));
+            sum = sum.add(a);
             m = m.max(a);
         }
     }
+    let finite = sum.eq(sum).and(m.le(big));
     let (p, inv) = (m.exponent(), m.recip_exponent());
     let mut out = pts;
     for v in out.iter_mut() {
