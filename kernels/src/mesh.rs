@@ -1850,14 +1850,7 @@ mod tests {
         let mut checked = 0;
         for &(size, offset) in &[(1.0, 0.0), (1e-3, 1e4), (1e3, -1e2)] {
             for w in [2, 3, 4, 8] {
-                let (mut v, mut t) = (Vec::new(), Vec::new());
-                for k in 0..40u32 {
-                    let c = [rnd(), rnd(), rnd()];
-                    for _ in 0..3 {
-                        v.push([0, 1, 2].map(|i| offset + size * (c[i] + 0.15 * rnd())));
-                    }
-                    t.push([3 * k, 3 * k + 1, 3 * k + 2]);
-                }
+                let (v, t) = soup(&mut rnd, 40, size, offset);
                 let axis = [rnd(), rnd(), rnd()];
                 let (angle, shift) = (7.0 * rnd(), [0, 1, 2].map(|_| size * rnd()));
                 let m64 = Mesh::with_width(v.clone(), t.clone(), w).expect("mesh");
@@ -1869,6 +1862,20 @@ mod tests {
             }
         }
         assert!(checked > 10_000, "only {checked} coordinates checked");
+    }
+
+    /// `n` small random triangles (each within 0.15 of a centre in the unit cube), scaled by
+    /// `size` and moved by `offset` in every coordinate.
+    fn soup(rnd: &mut impl FnMut() -> f64, n: u32, size: f64, offset: f64) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+        let (mut v, mut t) = (Vec::new(), Vec::new());
+        for k in 0..n {
+            let c = [rnd(), rnd(), rnd()];
+            for _ in 0..3 {
+                v.push([0, 1, 2].map(|i| offset + size * (c[i] + 0.15 * rnd())));
+            }
+            t.push([3 * k, 3 * k + 1, 3 * k + 2]);
+        }
+        (v, t)
     }
 
     /// Uniform numbers in [-0.5, 0.5) from a xorshift generator seeded with `seed`.
@@ -1898,14 +1905,7 @@ mod tests {
             &[(1.0, 0.0, 4, 4), (1.0, 0.0, 8, 2), (1e-3, 1e4, 2, 8), (1e-3, 1e4, 4, 3)]
         {
             let mut mesh = |w: usize| {
-                let (mut v, mut t) = (Vec::new(), Vec::new());
-                for k in 0..48u32 {
-                    let c = [rnd(), rnd(), rnd()];
-                    for _ in 0..3 {
-                        v.push([0, 1, 2].map(|i| offset + size * (c[i] + 0.15 * rnd())));
-                    }
-                    t.push([3 * k, 3 * k + 1, 3 * k + 2]);
-                }
+                let (v, t) = soup(&mut rnd, 48, size, offset);
                 Mesh::with_width(v, t, w).expect("mesh")
             };
             let (a, b) = (mesh(wa), mesh(wb));

@@ -127,14 +127,19 @@ pub(crate) fn columns<L: Lanes<S = f64>>(k: L::K, job: &mut Columns<'_>) {
         for r in 0..3 {
             (col[LO + r], col[HI + r]) = (lo[r], hi[r]);
         }
+        // the moved axes' dot products, each once (the diagonal gives their lengths)
+        let mut ee = [[c(0.0); 3]; 3];
+        for (i, row) in ee.iter_mut().enumerate() {
+            for (q, x) in row.iter_mut().enumerate() {
+                *x = dot3(&e[i], &e[q]);
+            }
+        }
         for q in 0..3 {
             col[H + q] = oh[q];
             // its radius along its own axis q: sum_i h_i |e_i . e_q|
-            col[OWN + q] = oh[0]
-                .mul(dot3(&e[0], &e[q]).abs())
-                .add(oh[1].mul(dot3(&e[1], &e[q]).abs()))
-                .add(oh[2].mul(dot3(&e[2], &e[q]).abs()));
-            col[LEN + q] = dot3(&e[q], &e[q]).sqrt().mul(c(1.0 + 1e-12));
+            col[OWN + q] =
+                oh[0].mul(ee[0][q].abs()).add(oh[1].mul(ee[1][q].abs())).add(oh[2].mul(ee[2][q].abs()));
+            col[LEN + q] = ee[q][q].sqrt().mul(c(1.0 + 1e-12));
             col[N1 + q] = e[q][0].abs().add(e[q][1].abs()).add(e[q][2].abs());
             for j in 0..3 {
                 col[E + 3 * q + j] = e[q][j];
