@@ -674,7 +674,7 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
             }
         }
     }
-    let _ = writeln!(t, "\n## Threads (triangle-triangle, {bn})\n\n`Engine::threads(n)`: the calling thread and a persistent pool of n - 1 helpers, batches split into pieces of at least 256 pairs taken by whichever thread is free. Measured alternately on the same batch (three rounds, medians): one thread, two threads, and, as the machine's ceiling at that moment, two independent one-thread workers each answering the whole batch (their combined rate over one thread's). Batches: the workload's pairs, and the same pairs repeated to {LARGE_BATCH}.\n\n| workload | prec | pairs | 1 thread Mq/s | 2 threads Mq/s | speed-up | 2 independent workers |\n|---|---|---|---|---|---|---|");
+    let _ = writeln!(t, "\n## Threads (triangle-triangle, {bn})\n\n`Engine::threads(n)`: the calling thread and a persistent pool of n - 1 helpers, batches split into pieces of at least 256 pairs, the calling thread taking them from the front and the helpers from the back, the caller waiting awake (up to 200 µs) for the helpers' last pieces. Measured alternately on the same batch (three rounds, medians): one thread, two threads, and, as the machine's ceiling at that moment, two independent one-thread workers each answering the whole batch (their combined rate over one thread's). Batches: the workload's pairs, and the same pairs repeated to {LARGE_BATCH}.\n\n| workload | prec | pairs | 1 thread Mq/s | 2 threads Mq/s | speed-up | 2 independent workers |\n|---|---|---|---|---|---|---|");
     for &(id, title) in &m.workloads {
         for r in m.threads.iter().filter(|r| r.workload == id) {
             let _ = writeln!(
