@@ -673,10 +673,11 @@ fn together(threads: usize, work: &(dyn Fn(bool) + Sync)) {
     });
 }
 
-/// How long the caller of [`together`] waits awake for the helpers to finish before it sleeps:
-/// longer than a piece takes (the pieces of a batch are a sixteenth of a thread's share, and
-/// batches below [`MIN_PARALLEL`] pairs are not split), short enough not to burn a core when a
-/// helper has been descheduled.
+/// How long the caller of [`together`] waits awake for the helpers to finish before it sleeps.
+/// The helpers' last pieces (a sixteenth of a thread's share each) end within it on batches
+/// of up to a few milliseconds, where a wake-up costs most; a longer batch loses one wake-up
+/// against far more work; and a helper descheduled by the system costs the caller no more
+/// than this much of its core.
 #[cfg(feature = "rayon")]
 const SPIN: std::time::Duration = std::time::Duration::from_micros(200);
 

@@ -1224,8 +1224,9 @@ impl<T: Real> Search<T> for Nearest<T> {
         // A leaf pair whose boxes overlap likely holds a touching pair, whose answer 0 ends
         // the search: answered at once, not in a batch of 64, the distance at the report's
         // interpenetrating poses 4-7 took 0.008, 0.035-0.036, 0.012 and 0.028-0.029 ms instead
-        // of 0.022, 0.067-0.071, 0.025-0.026 and 0.091-0.095 (`spin mesh distance P f32 1 0.5`,
-        // two copies of each build alternated); separated poses never gather such a pair.
+        // of 0.022, 0.067-0.071, 0.025-0.026 and 0.091-0.095 (in the overlap-depth order that
+        // preceded the fraction's; `spin mesh distance P f32 1 0.5`, two copies of each build
+        // alternated); separated poses never gather such a pair.
         self.best.is_none() || overlap
     }
     fn best_first(&self) -> bool {
@@ -1978,8 +1979,8 @@ mod tests {
                         let g = test_gaps(isa, &mut sa, p, &mut sb, f, f64::INFINITY);
                         let h = test_gaps(isa, &mut sa, p, &mut sb, f, lim);
                         for j in 0..n {
-                            // (the bounds of overlapping nodes are minus their depth, from
-                            // subtractions and maxima only: the same on every instruction set)
+                            // (the bounds of overlapping nodes, minus their overlap as a
+                            // fraction, are computed unfused: the same on every instruction set)
                             assert!(g[j] >= 0.0 || g[j] == full[j], "{isa} child {j} of {p} vs {f}");
                             let (g, full) = (g.map(|x| x.max(0.0)), full.map(|x| x.max(0.0)));
                             let diff = (g[j].sqrt() - full[j].sqrt()).abs() / scale;
