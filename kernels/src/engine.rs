@@ -583,25 +583,21 @@ impl Engine {
 /// is shared and noisy).
 fn run_pieces<T: Real>(isa: Isa, threads: usize, jobs: &mut [Job<'_, T>]) {
     use std::sync::Mutex;
-    let ends = Mutex::new((0, jobs.len()));
-    let slots: Vec<Mutex<&mut Job<'_, T>>> = jobs.iter_mut().map(Mutex::new).collect();
-    together(threads.min(slots.len()), &|caller| loop {
-        let i = {
-            let mut e = ends.lock().unwrap_or_else(|e| e.into_inner());
-            if e.0 >= e.1 {
+    let threads = threads.min(jobs.len());
+    // the pieces not taken yet
+    let rest = Mutex::new(jobs);
+    together(threads, &|caller| loop {
+        let job = {
+            let mut r = rest.lock().unwrap_or_else(|e| e.into_inner());
+            let all = std::mem::take(&mut *r);
+            let Some((job, left)) = (if caller { all.split_first_mut() } else { all.split_last_mut() })
+            else {
                 break;
-            }
-            if caller {
-                e.0 += 1;
-                e.0 - 1
-            } else {
-                e.1 -= 1;
-                e.1
-            }
+            };
+            *r = left;
+            job
         };
-        // each slot is taken once: the lock is never contended
-        let mut job = slots[i].lock().unwrap_or_else(|e| e.into_inner());
-        T::run_job(isa, &mut job);
+        T::run_job(isa, job);
     });
 }
 
