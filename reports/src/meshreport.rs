@@ -197,7 +197,7 @@ fn rows<T: Peer + Real>(
         budget,
     );
     let e = Engine::auto();
-    let margin = T::from_f64(0.02);
+    let margin = T::from_f64(MARGIN);
     let id = Pose::<T>::identity();
     let peer_id: PeerPose = ([0.0; 3], [0.0; 3]);
     let mut out = Vec::new();
@@ -266,7 +266,68 @@ fn rows<T: Peer + Real>(
             fcl_t_i,
         });
     }
-    Ok(Built { build, parry_build, fcl_build: fcl.is_some().then_some(fcl_build), rows: out })
+    // the pose with the most contacts (the first of them), measured again for the summary
+    let deep =
+        out.iter().enumerate().max_by_key(|(k, r)| (r.contacts, std::cmp::Reverse(*k))).map(|(k, _)| k);
+    let scaling = match deep {
+        Some(k) if out[k].contacts > 0 => {
+            let pose = pose_in::<T>(&pose_k(k, poses).1);
+            Some(contact_scaling(&e, &ma, &mb, &pose, margin, budget))
+        }
+        _ => None,
+    };
+    Ok(Built { build, parry_build, fcl_build: fcl.is_some().then_some(fcl_build), rows: out, scaling })
+}
+
+/// Rounds of [`contact_scaling`].
+const SCALING_ROUNDS: usize = 5;
+
+/// The contact query at one pose on one thread, on two threads, and as two independent
+/// one-thread workers running it at once (the machine's ceiling at that moment), measured in
+/// turn, [`SCALING_ROUNDS`] rounds of at least 250 ms each (so that the machine's drift falls
+/// on all three alike): the medians of two threads' speed and of the two workers' combined
+/// speed, over one thread's.
+fn contact_scaling<T: Real>(
+    e: &Engine,
+    a: &Mesh<T>,
+    b: &Mesh<T>,
+    pose: &Pose<T>,
+    margin: T,
+    budget: Duration,
+) -> Scaling {
+    let budget = budget.max(Duration::from_millis(250));
+    let id = Pose::<T>::identity();
+    let run = |e: &Engine| drop(e.mesh_contacts(a, &id, b, pose, margin, None));
+    let (mut two, mut apart) = (Vec::new(), Vec::new());
+    for _ in 0..SCALING_ROUNDS {
+        let one = median_time(|| run(&e.threads(1)), budget);
+        two.push(one / median_time(|| run(&e.threads(2)), budget));
+        // two workers, each calling the one-thread query until the budget is spent
+        let single = e.threads(1);
+        let start = std::time::Instant::now();
+        let calls: usize = std::thread::scope(|sc| {
+            let worker = || {
+                let mut calls = 0;
+                while calls < 3 || start.elapsed() < budget {
+                    run(&single);
+                    calls += 1;
+                }
+                calls
+            };
+            let h = [sc.spawn(worker), sc.spawn(worker)];
+            h.into_iter().map(|h| h.join().unwrap_or(0)).sum()
+        });
+        apart.push(calls as f64 * one / start.elapsed().as_secs_f64());
+    }
+    Scaling { two: crate::common::median(two), apart: crate::common::median(apart) }
+}
+
+/// Two threads' speed on the contact query and the two independent workers' (the ceiling),
+/// over one thread's ([`contact_scaling`]).
+#[derive(Clone, Copy)]
+struct Scaling {
+    two: f64,
+    apart: f64,
 }
 
 /// One precision's measurements.
@@ -275,6 +336,8 @@ struct Built {
     parry_build: f64,
     fcl_build: Option<f64>,
     rows: Vec<Row>,
+    /// At the pose with the most contacts (`None` when no pose has any).
+    scaling: Option<Scaling>,
 }
 
 /// Milliseconds, or "-" for a peer not measured (NaN).
@@ -320,7 +383,14 @@ struct NearRow {
     t_i64: f64,
     fcl_hit: Option<bool>,
     fcl_t_i: f64,
+    /// The contacts within [`MARGIN`] (f64) and the contact query's times (f32, f64).
+    contacts: usize,
+    t_c32: f64,
+    t_c64: f64,
 }
+
+/// The margin of the contact query (1 % of the scene's size).
+const MARGIN: f64 = 0.02;
 
 /// The fandisk rotated about a random axis by a random angle and moved along a random
 /// direction until its distance to the armadillo is [`NEAR_GAP`] (bisection on the
@@ -368,12 +438,25 @@ fn near_rows(
         let t_i32 = median_time(|| drop(e.mesh_intersect(&a32, &id32, &b32, &pose32)), budget);
         let t_i64 =
             median_time(|| hit = matches!(e.mesh_intersect(&a64, &id64, &b64, &pose64), Ok(Some(_))), budget);
+        let mut contacts = 0;
+        let t_c32 =
+            median_time(|| drop(e.mesh_contacts(&a32, &id32, &b32, &pose32, MARGIN as f32, None)), budget);
+        let t_c64 = median_time(
+            || {
+                contacts =
+                    e.mesh_contacts(&a64, &id64, &b64, &pose64, MARGIN, None).map_or(usize::MAX, |c| c.len())
+            },
+            budget,
+        );
         let (mut fcl_d, mut fcl_t_d, mut fcl_hit, mut fcl_t_i) = (f64::NAN, f64::NAN, None, f64::NAN);
         if let Some((fa, fb)) = &fcl {
             fcl_t_d = median_time(|| fcl_d = fa.distance(&id64, fb, &pose64), budget);
             fcl_t_i = median_time(|| fcl_hit = Some(fa.collide(&id64, fb, &pose64)), budget);
         }
         out.push(NearRow {
+            contacts,
+            t_c32,
+            t_c64,
             pose: pose64,
             d,
             t_d32,
@@ -396,20 +479,25 @@ fn near_md(t: &mut String, rows: &[NearRow]) {
         t,
         "## Near contact at random orientations
 
-The fandisk rotated about a random axis by a random angle and moved along a random direction until its distance to the armadillo is {NEAR_GAP} (0.05 % of the scene's size; bisection on the translation with tridist f64), one placement per row, the same meshes and timing as above.
+The fandisk rotated about a random axis by a random angle and moved along a random direction until its distance to the armadillo is {NEAR_GAP} (0.05 % of the scene's size; bisection on the translation with tridist f64), one placement per row, the same meshes and timing as above. Contacts: the triangle pairs within {MARGIN} (1 % of the scene's size, so twenty times the gap; their count in f64) and the contact query's time; the distance query answers one pair of them.
 
-| placement | distance | tridist f32 ms | tridist f64 ms | FCL ms | FCL / tridist f32 | FCL / tridist f64 | intersect (tridist, FCL) | tridist f32 ms | tridist f64 ms | FCL ms | agreement |\n|---|---|---|---|---|---|---|---|---|---|---|---|"
+| placement | distance | tridist f32 ms | tridist f64 ms | FCL ms | FCL / tridist f32 | FCL / tridist f64 | intersect (tridist, FCL) | tridist f32 ms | tridist f64 ms | FCL ms | contacts | contacts f32 ms | contacts f64 ms | agreement |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
-    let mut sum = [0.0; 6];
+    let mut sum = [0.0; 8];
+    let mut within = 0;
     for (k, r) in rows.iter().enumerate() {
         let diff = if r.fcl_d.is_nan() { 0.0 } else { (r.d - r.fcl_d).abs() };
         let agree = diff <= 1e-8 && r.fcl_hit.is_none_or(|h| h == r.hit);
-        for (x, v) in sum.iter_mut().zip([r.t_d32, r.t_d64, r.fcl_t_d, r.t_i32, r.t_i64, r.fcl_t_i]) {
+        for (x, v) in
+            sum.iter_mut().zip([r.t_d32, r.t_d64, r.fcl_t_d, r.t_i32, r.t_i64, r.fcl_t_i, r.t_c32, r.t_c64])
+        {
             *x += v;
         }
+        // placements whose contact query took no longer than their distance query
+        within += usize::from(r.t_c32 <= r.t_d32 && r.t_c64 <= r.t_d64);
         let _ = writeln!(
             t,
-            "| {k} | {:.6e} | {} | {} | {} | {} | {} | {}, {} | {} | {} | {} | {} |",
+            "| {k} | {:.6e} | {} | {} | {} | {} | {} | {}, {} | {} | {} | {} | {} | {} | {} | {} |",
             r.d,
             ms(r.t_d32),
             ms(r.t_d64),
@@ -421,6 +509,9 @@ The fandisk rotated about a random axis by a random angle and moved along a rand
             ms(r.t_i32),
             ms(r.t_i64),
             ms(r.fcl_t_i),
+            r.contacts,
+            ms(r.t_c32),
+            ms(r.t_c64),
             agreement(agree, diff)
         );
     }
@@ -428,7 +519,7 @@ The fandisk rotated about a random axis by a random angle and moved along a rand
     let m = sum.map(|x| x / n);
     let _ = writeln!(
         t,
-        "\nMean time per placement: distance tridist f32 {} ms, f64 {} ms, FCL {} ms (FCL / tridist of the means **{} (f32)**, **{} (f64)**); intersect tridist f32 {} ms, f64 {} ms, FCL {} ms.\n",
+        "\nMean time per placement: distance tridist f32 {} ms, f64 {} ms, FCL {} ms (FCL / tridist of the means **{} (f32)**, **{} (f64)**); intersect tridist f32 {} ms, f64 {} ms, FCL {} ms; contacts within {MARGIN} tridist f32 {} ms, f64 {} ms (contacts / distance of the means: {} (f32), {} (f64); the contact query no slower than the distance query in both precisions at {within} of {} placements).\n",
         ms(m[0]),
         ms(m[1]),
         ms(m[2]),
@@ -436,7 +527,12 @@ The fandisk rotated about a random axis by a random angle and moved along a rand
         ratio(m[2] / m[1], 2),
         ms(m[3]),
         ms(m[4]),
-        ms(m[5])
+        ms(m[5]),
+        ms(m[6]),
+        ms(m[7]),
+        ratio(m[6] / m[0], 2),
+        ratio(m[7] / m[1], 2),
+        rows.len()
     );
 }
 
@@ -457,7 +553,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         s.budget.as_millis()
     );
     // per precision: mean distance ms of tridist and FCL, mean intersect ms of both, parry ratio
-    let (mut means, mut builds) = (Vec::new(), Vec::new());
+    let (mut means, mut builds, mut ceilings) = (Vec::new(), Vec::new(), Vec::new());
     for p in ["f32", "f64"] {
         let m = if p == "f32" {
             rows::<f32>(&a, &b, s.budget, s.mesh_poses)?
@@ -511,11 +607,11 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
             );
         }
         let n = m.rows.len() as f64;
-        // two threads on the contacts of the pose with the most of them
-        let deep = m.rows.iter().max_by_key(|r| r.contacts).map_or(f64::NAN, |r| r.t_c / r.t_c2);
+        // two threads on the contacts of the pose with the most of them (measured again)
+        let (deep, ceiling) = m.scaling.map_or((f64::NAN, f64::NAN), |x| (x.two, x.apart));
         let _ = writeln!(
             t,
-            "\nMean time per pose: distance tridist {} ms, FCL {} ms (FCL / tridist of the means **{}**; mean of the per-pose ratios {}); intersect tridist {} ms, FCL {} ms. parry3d's distance time / tridist's, mean over the poses: **{:.1}x**. Largest distance difference {worst:.1e}. Contacts on two threads at the pose with the most contacts: **{}** one thread's speed.\n",
+            "\nMean time per pose: distance tridist {} ms, FCL {} ms (FCL / tridist of the means **{}**; mean of the per-pose ratios {}); intersect tridist {} ms, FCL {} ms. parry3d's distance time / tridist's, mean over the poses: **{:.1}x**. Largest distance difference {worst:.1e}. Contacts on two threads at the pose with the most contacts: **{}** one thread's speed (two independent one-thread workers: {}).\n",
             ms(sum_t / n),
             ms(sum_fcl / n),
             ratio(sum_fcl / sum_t, 2),
@@ -523,17 +619,19 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
             ms(sum_ti / n),
             ms(sum_fcl_i / n),
             parry_ratio / n,
-            ratio(deep, 2)
+            ratio(deep, 2),
+            ratio(ceiling, 2)
         );
         means.push((sum_t / n, sum_fcl / n, sum_ti / n, sum_fcl_i / n, parry_ratio / n, deep));
+        ceilings.push(ratio(ceiling, 2));
     }
-    let _ = writeln!(t, "Contacts on two threads: `Engine::threads(2)`, the traversal split into pieces walked in parallel and the contacts sorted in parallel (same contacts, same order); one and two threads measured alternately, three rounds, medians.\n");
+    let _ = writeln!(t, "Contacts on two threads: `Engine::threads(2)`, the traversal split into pieces walked in parallel and the contacts sorted in parallel (same contacts, same order); per pose, one and two threads measured alternately, three rounds, medians. The summary's figure at the pose with the most contacts is measured again, {SCALING_ROUNDS} rounds of at least 250 ms per measurement: one thread, two threads, and, as the machine's ceiling at that moment, two independent one-thread workers running the query at once (their combined speed over one thread's; this machine's two cores are shared, so that ceiling is below 2x when other work runs), medians.\n");
     let near = near_rows(&a, &b, s.budget, s.mesh_poses, seed)?;
     near_md(&mut t, &near);
     widths_md(&mut t, &a, &b, s, &near.iter().map(|r| r.pose).collect::<Vec<_>>())?;
     let (m32, m64) = (means[0], means[1]);
     let summary = format!(
-        "- Mesh distance with closest points, Armadillo vs fandisk ({} poses through each other), one thread, mean per pose: tridist f32 {} ms, f64 {} ms; FCL (OBBRSS, double) {} ms: **{} (f32)** and **{} (f64)** FCL's speed; parry3d {:.1}x slower than tridist f32. Collision: tridist {} ms, FCL {} ms. Contacts within 1 % of the scene's size on two threads, at the pose with the most contacts: {} (f32) and {} (f64) one thread's speed. Tree build of both meshes (median of repeated builds): tridist f32 {} ms, f64 {} ms (axis-aligned and oriented boxes); parry3d f32 {} ms, f64 {} ms (axis-aligned boxes); FCL (OBBRSS) {} ms ([reports/MESH.md](reports/MESH.md)).",
+        "- Mesh distance with closest points, Armadillo vs fandisk ({} poses through each other), one thread, mean per pose: tridist f32 {} ms, f64 {} ms; FCL (OBBRSS, double) {} ms: **{} (f32)** and **{} (f64)** FCL's speed; parry3d {:.1}x slower than tridist f32. Collision: tridist {} ms, FCL {} ms. Contacts within 1 % of the scene's size on two threads, at the pose with the most contacts: {} (f32) and {} (f64) one thread's speed (two independent one-thread workers at the same time: {} and {}). Tree build of both meshes (median of repeated builds): tridist f32 {} ms, f64 {} ms (axis-aligned and oriented boxes); parry3d f32 {} ms, f64 {} ms (axis-aligned boxes); FCL (OBBRSS) {} ms ([reports/MESH.md](reports/MESH.md)).",
         s.mesh_poses,
         ms(m32.0),
         ms(m64.0),
@@ -545,6 +643,8 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         ms(m64.3),
         ratio(m32.5, 2),
         ratio(m64.5, 2),
+        ceilings[0],
+        ceilings[1],
         builds[0].0,
         builds[1].0,
         builds[0].1,

@@ -307,8 +307,15 @@ fn a_small_report_writes_parseable_files() {
         assert!(cells[3].parse::<f64>().unwrap() > 0.0 && cells[4].parse::<f64>().unwrap() > 0.0, "{r}");
         assert_eq!(cells[5].parse::<f64>().is_ok_and(|t| t > 0.0), fcl, "{r}"); // FCL's time
         assert_eq!(cells[8], if fcl { "no, no" } else { "no, -" }, "{r}");
-        assert_eq!(cells[12], "ok", "{r}");
+        // the pair at the gap (1e-3) is within the margin (0.02): at least one contact
+        assert!(cells[12].parse::<usize>().unwrap() >= 1, "{r}");
+        assert!(cells[13..15].iter().all(|x| x.parse::<f64>().unwrap() >= 0.0), "{r}");
+        assert_eq!(cells[15], "ok", "{r}");
     }
+    // two threads on the contact query, with the two independent workers' ceiling, per precision
+    let scaling: Vec<&str> =
+        mesh.matches("one thread's speed (two independent one-thread workers: ").collect();
+    assert_eq!(scaling.len(), 2, "{mesh}");
     // tree widths: 2, 4 and 8 per precision, every time positive
     let widths = mesh.split("## Tree width").nth(1).expect("the tree-width section");
     for p in ["f32", "f64"] {
