@@ -473,8 +473,8 @@ fn near_rows(
     Ok(out)
 }
 
-/// The near-contact section of MESH.md.
-fn near_md(t: &mut String, rows: &[NearRow]) {
+/// The near-contact section of MESH.md; returns its sentence for the README's results.
+fn near_md(t: &mut String, rows: &[NearRow]) -> String {
     let _ = writeln!(
         t,
         "## Near contact at random orientations
@@ -534,6 +534,16 @@ The fandisk rotated about a random axis by a random angle and moved along a rand
         ratio(m[7] / m[1], 2),
         rows.len()
     );
+    format!(
+        " Near contact ({} placements at random orientations, {NEAR_GAP} apart), mean per placement: distance tridist f32 {} ms, FCL {} ms (**{}**); intersect tridist f32 {} ms, FCL {} ms; the contacts within {MARGIN} (1 % of the scene's size) took {} (f32) the distance query's time.",
+        rows.len(),
+        ms(m[0]),
+        ms(m[2]),
+        ratio(m[2] / m[0], 2),
+        ms(m[3]),
+        ms(m[5]),
+        ratio(m[6] / m[0], 2)
+    )
 }
 
 /// MESH.md, and its summary line for the README's results.
@@ -627,11 +637,11 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
     }
     let _ = writeln!(t, "Contacts on two threads: `Engine::threads(2)`, the traversal split into pieces walked in parallel and the contacts sorted in parallel (same contacts, same order); per pose, one and two threads measured alternately, three rounds, medians. The summary's figure at the pose with the most contacts is measured again, {SCALING_ROUNDS} rounds of at least 250 ms per measurement: one thread, two threads, and, as the machine's ceiling at that moment, two independent one-thread workers running the query at once (their combined speed over one thread's; this machine's two cores are shared, so that ceiling is below 2x when other work runs), medians.\n");
     let near = near_rows(&a, &b, s.budget, s.mesh_poses, seed)?;
-    near_md(&mut t, &near);
+    let near_summary = near_md(&mut t, &near);
     widths_md(&mut t, &a, &b, s, &near.iter().map(|r| r.pose).collect::<Vec<_>>())?;
     let (m32, m64) = (means[0], means[1]);
     let summary = format!(
-        "- Mesh distance with closest points, Armadillo vs fandisk ({} poses through each other), one thread, mean per pose: tridist f32 {} ms, f64 {} ms; FCL (OBBRSS, double) {} ms: **{} (f32)** and **{} (f64)** FCL's speed; parry3d {:.1}x slower than tridist f32. Collision: tridist {} ms, FCL {} ms. Contacts within 1 % of the scene's size on two threads, at the pose with the most contacts: {} (f32) and {} (f64) one thread's speed (two independent one-thread workers at the same time: {} and {}). Tree build of both meshes (median of repeated builds): tridist f32 {} ms, f64 {} ms (axis-aligned and oriented boxes); parry3d f32 {} ms, f64 {} ms (axis-aligned boxes); FCL (OBBRSS) {} ms ([reports/MESH.md](reports/MESH.md)).",
+        "- Mesh distance with closest points, Armadillo vs fandisk ({} poses through each other), one thread, mean per pose: tridist f32 {} ms, f64 {} ms; FCL (OBBRSS, double) {} ms: **{} (f32)** and **{} (f64)** FCL's speed; parry3d {:.1}x slower than tridist f32. Collision: tridist {} ms, FCL {} ms. Contacts within 1 % of the scene's size on two threads, at the pose with the most contacts: {} (f32) and {} (f64) one thread's speed (two independent one-thread workers at the same time: {} and {}).{near_summary} Tree build of both meshes (median of repeated builds): tridist f32 {} ms, f64 {} ms (axis-aligned and oriented boxes); parry3d f32 {} ms, f64 {} ms (axis-aligned boxes); FCL (OBBRSS) {} ms ([reports/MESH.md](reports/MESH.md)).",
         s.mesh_poses,
         ms(m32.0),
         ms(m64.0),
