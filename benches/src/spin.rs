@@ -1,13 +1,14 @@
 //! Runs one query on one workload for a few seconds (for `perf record`):
 //! `cargo run --release -p tridist-benches --bin spin -- tri_tri random f32 avx2fma 5 [pairs [threads]]`,
 //! or a mesh query on the mesh report's scene (Armadillo fixed, fandisk at trajectory pose
-//! `k` of 12): `spin mesh contacts|distance|intersect|build <k> f32|f64 <threads> <secs>`.
+//! `k` of 12, or at near-contact placement `n<k>` of MESH.md, 0.001 apart):
+//! `spin mesh contacts|distance|intersect|build <k>|n<k> f32|f64 <threads> <secs>`.
 use tridist::{Engine, Intersection, Isa, Query};
 use tridist_scenes::workload::Workload;
 use tridist_scenes::{families, Family};
 
 const USAGE: &str = "usage: spin <query> <family|arm_nearby> f32|f64 <variant|fcl> <secs> [pairs [threads]]
-       spin mesh contacts|distance|intersect|build <pose 0-11> f32|f64 <threads> <secs>";
+       spin mesh contacts|distance|intersect|build <pose 0-11 | near placement n0-n11> f32|f64 <threads> <secs>";
 
 /// Bad arguments: the reason and the usage on stderr, exit status 2.
 fn usage(why: &str) -> ! {
@@ -110,11 +111,32 @@ fn mesh<T: tridist::Real>(a: &[String]) {
     let tm = |m: &tridist_scenes::mesh::Mesh| {
         Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone()).expect("mesh")
     };
-    let k: usize = a[2].parse().ok().filter(|k| *k < 12).unwrap_or_else(|| usage("the pose is 0 to 11"));
+    // a trajectory pose `k`, or a near-contact placement `n<k>`
+    let (near, k) = match a[2].strip_prefix('n') {
+        Some(k) => (true, k),
+        None => (false, a[2].as_str()),
+    };
+    let k: usize =
+        k.parse().ok().filter(|k| *k < 12).unwrap_or_else(|| usage("the pose is 0 to 11 or n0 to n11"));
     let threads: usize =
         a[4].parse().ok().filter(|n| *n > 0).unwrap_or_else(|| usage("threads must be a positive number"));
     let secs: f64 = a[5].parse().unwrap_or_else(|_| usage("seconds must be a number"));
-    let (_, p64) = tridist_scenes::protocol::trajectory_pose(k, 12);
+    let p64 = if near {
+        let m64 = |m: &tridist_scenes::mesh::Mesh| {
+            Mesh::new(m.vertices.clone(), m.triangles.clone()).expect("mesh")
+        };
+        // MESH.md's gap (0.05 % of the scene's size) and seed
+        tridist_scenes::protocol::near_contact_pose(
+            &m64(&arm),
+            &m64(&fan),
+            tridist_scenes::seed(),
+            k as u64,
+            1e-3,
+        )
+        .expect("placement")
+    } else {
+        tridist_scenes::protocol::trajectory_pose(k, 12).1
+    };
     let pose = Pose {
         rotation: p64.rotation.map(|r| r.map(T::from_f64)),
         translation: p64.translation.map(T::from_f64),

@@ -393,9 +393,9 @@ struct NearRow {
 const MARGIN: f64 = 0.02;
 
 /// The fandisk rotated about a random axis by a random angle and moved along a random
-/// direction until its distance to the armadillo is [`NEAR_GAP`] (bisection on the
-/// translation with tridist f64: the pose found is the far end of the last bracket, so its
-/// distance is at least the gap), one placement per seed `seed ^ k`.
+/// direction until its distance to the armadillo is [`NEAR_GAP`]
+/// ([`tridist_scenes::protocol::near_contact_pose`], which `spin mesh <query> n<k>` also
+/// uses), one placement per `k`.
 fn near_rows(
     a: &tridist_scenes::mesh::Mesh,
     b: &tridist_scenes::mesh::Mesh,
@@ -413,20 +413,7 @@ fn near_rows(
     };
     let mut out = Vec::new();
     for k in 0..placements {
-        let mut rng = tridist_scenes::rng::Rng::new(seed ^ 0x6e65_6172 ^ k as u64);
-        let (axis, angle, dir) = (rng.dir(), rng.range(0.0, std::f64::consts::TAU), rng.dir());
-        let at = |t: f64| Pose::from_axis_angle(axis, angle, dir.map(|c| c * t));
-        // both meshes lie in [-1, 1]^3: 4 units apart they are separated in any direction
-        let (mut lo, mut hi) = (0.0, 4.0);
-        for _ in 0..48 {
-            let mid = 0.5 * (lo + hi);
-            if dist(&at(mid))? < NEAR_GAP {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        let pose64 = at(hi);
+        let pose64 = tridist_scenes::protocol::near_contact_pose(&a64, &b64, seed, k as u64, NEAR_GAP)?;
         let pose32 = Pose {
             rotation: pose64.rotation.map(|r| r.map(|x| x as f32)),
             translation: pose64.translation.map(|x| x as f32),

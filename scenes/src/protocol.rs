@@ -251,3 +251,34 @@ pub fn trajectory_pose(k: usize, poses: usize) -> (([f64; 3], [f64; 3]), Pose<f6
     let axis = [1.0 / n, 2.0 / n, 3.0 / n];
     (([x, 0.0, 0.0], axis.map(|a| a * angle)), Pose::from_axis_angle(axis, angle, [x, 0.0, 0.0]))
 }
+
+/// Near-contact placement `k` of the mesh report (MESH.md, "Near contact at random
+/// orientations") for the base seed `seed`: `b` rotated about a random axis by a random angle
+/// and moved along a random direction until its distance to `a` (both in [-1, 1]^3, `a` at
+/// rest) is `gap`, by bisection on the translation with tridist f64. The pose returned is the
+/// far end of the last bracket, so its distance is at least the gap.
+pub fn near_contact_pose(
+    a: &tridist::Mesh<f64>,
+    b: &tridist::Mesh<f64>,
+    seed: u64,
+    k: u64,
+    gap: f64,
+) -> Result<Pose<f64>, String> {
+    let e = tridist::Engine::auto();
+    let id = Pose::<f64>::identity();
+    let mut rng = Rng::new(seed ^ 0x6e65_6172 ^ k);
+    let (axis, angle, dir) = (rng.dir(), rng.range(0.0, std::f64::consts::TAU), rng.dir());
+    let at = |t: f64| Pose::from_axis_angle(axis, angle, dir.map(|c| c * t));
+    // both meshes lie in [-1, 1]^3: 4 units apart they are separated in any direction
+    let (mut lo, mut hi) = (0.0, 4.0);
+    for _ in 0..48 {
+        let mid = 0.5 * (lo + hi);
+        let d = e.mesh_distance(a, &id, b, &at(mid)).map_err(|x| x.to_string())?;
+        if d.map_or(f64::INFINITY, |r| r.sqdist.sqrt()) < gap {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok(at(hi))
+}
