@@ -251,7 +251,7 @@ fn a_small_report_writes_parseable_files() {
             "--budget-ms",
             "1",
             "--mesh-poses",
-            "2",
+            "3",
         ],
         "",
     );
@@ -265,26 +265,32 @@ fn a_small_report_writes_parseable_files() {
         );
         assert!(!t.contains("EXCEEDED") && !t.contains("**NO**"), "{f} reports a bound exceeded");
     }
-    // the mesh table: both ends of the trajectory, apart, the libraries agreeing (FCL when
-    // it was built)
+    // the mesh table: both ends of the trajectory apart, its middle through the armadillo,
+    // the libraries agreeing (FCL when it was built)
     let mesh = std::fs::read_to_string(dir.join("MESH.md")).unwrap();
     let fcl = tridist_scenes::peer::FclMesh::available();
     for p in ["## tridist f32", "## tridist f64"] {
-        let rows: Vec<&str> = mesh
+        let rows: Vec<Vec<&str>> = mesh
             .split(p)
             .nth(1)
             .expect("a section per precision")
             .lines()
             .filter(|l| l.starts_with("| +") || l.starts_with("| -"))
-            .take(2)
+            .take(3)
+            .map(|r| r.split('|').map(str::trim).collect())
             .collect();
-        assert_eq!(rows.len(), 2, "{mesh}");
-        for r in rows {
-            let cells: Vec<&str> = r.split('|').map(str::trim).collect();
-            assert!(cells[2].parse::<f64>().unwrap() > 0.5, "{r}"); // 3 units apart: a gap
-            assert_eq!(cells[8], if fcl { "no, no, no" } else { "no, -, no" }, "{r}");
-            assert_eq!(cells[4].parse::<f64>().is_ok_and(|t| t > 0.0), fcl, "{r}"); // FCL's time
-            assert_eq!(cells[15], "ok", "{r}");
+        assert_eq!(rows.len(), 3, "{mesh}");
+        for (k, cells) in rows.iter().enumerate() {
+            let through = k == 1;
+            let d = cells[2].parse::<f64>().unwrap();
+            // 3 units apart: a gap; in the middle: touching, and contacts within the margin
+            assert!(if through { d == 0.0 } else { d > 0.5 }, "{cells:?}");
+            let v = if through { "yes" } else { "no" };
+            let verdicts = if fcl { format!("{v}, {v}, {v}") } else { format!("{v}, -, {v}") };
+            assert_eq!(cells[8], verdicts, "{cells:?}");
+            assert_eq!(cells[12].parse::<usize>().unwrap() > 0, through, "{cells:?}");
+            assert_eq!(cells[4].parse::<f64>().is_ok_and(|t| t > 0.0), fcl, "{cells:?}"); // FCL's time
+            assert_eq!(cells[15], "ok", "{cells:?}");
         }
     }
     // near contact: one row per placement (the poses asked for), each placed at the gap, apart,
@@ -299,7 +305,7 @@ fn a_small_report_writes_parseable_files() {
         .lines()
         .filter(|l| l.starts_with("| ") && !l.starts_with("| placement"))
         .collect();
-    assert_eq!(near.len(), 2, "{mesh}");
+    assert_eq!(near.len(), 3, "{mesh}");
     for r in near {
         let cells: Vec<&str> = r.split('|').map(str::trim).collect();
         let d: f64 = cells[2].parse().unwrap();
@@ -312,10 +318,20 @@ fn a_small_report_writes_parseable_files() {
         assert!(cells[13..15].iter().all(|x| x.parse::<f64>().unwrap() >= 0.0), "{r}");
         assert_eq!(cells[15], "ok", "{r}");
     }
-    // two threads on the contact query, with the two independent workers' ceiling, per precision
-    let scaling: Vec<&str> =
-        mesh.matches("one thread's speed (two independent one-thread workers: ").collect();
+    // two threads on the contact query at the middle pose, with the two independent workers'
+    // ceiling, per precision: both speed-ups measured (positive ratios)
+    let ratio = |s: &str| s.trim_end_matches('x').parse::<f64>().is_ok_and(|r| r > 0.0);
+    let scaling: Vec<(&str, &str)> = mesh
+        .split("Contacts on two threads at the pose with the most contacts: **")
+        .skip(1)
+        .map(|s| {
+            let (two, rest) =
+                s.split_once("** one thread's speed (two independent one-thread workers: ").unwrap();
+            (two, rest.split_once(')').unwrap().0)
+        })
+        .collect();
     assert_eq!(scaling.len(), 2, "{mesh}");
+    assert!(scaling.iter().all(|(two, apart)| ratio(two) && ratio(apart)), "{scaling:?}");
     // tree widths: 2, 4 and 8 per precision, every time positive
     let widths = mesh.split("## Tree width").nth(1).expect("the tree-width section");
     for p in ["f32", "f64"] {
