@@ -315,7 +315,8 @@ fn contact_scaling<T: Real>(
                 calls
             };
             let h = [sc.spawn(worker), sc.spawn(worker)];
-            h.into_iter().map(|h| h.join().unwrap_or(0)).sum()
+            // (a worker's panic is the report's, not a smaller count)
+            h.into_iter().map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p))).sum()
         });
         apart.push(calls as f64 * one / start.elapsed().as_secs_f64());
     }
