@@ -125,13 +125,13 @@ fn mesh<T: tridist::Real>(a: &[String]) {
         let m64 = |m: &tridist_scenes::mesh::Mesh| {
             Mesh::new(m.vertices.clone(), m.triangles.clone()).expect("mesh")
         };
-        // MESH.md's gap (0.05 % of the scene's size) and seed
+        // MESH.md's gap and seed
         tridist_scenes::protocol::near_contact_pose(
             &m64(&arm),
             &m64(&fan),
             tridist_scenes::seed(),
             k as u64,
-            1e-3,
+            tridist_scenes::protocol::NEAR_GAP,
         )
         .expect("placement")
     } else {

@@ -133,3 +133,32 @@ pub fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
 }
+
+/// Two threads, each calling `work` on its own state (`init`) over and over until `budget` has
+/// passed (at least three calls each), at once: their calls per second together, or `None`
+/// when a call fails (`work` returns `false`) or a thread panics. Two independent workers: the
+/// machine's ceiling for two threads at that moment.
+pub fn two_workers<S>(
+    budget: std::time::Duration,
+    init: impl Fn() -> S + Sync,
+    work: impl Fn(&mut S) -> bool + Sync,
+) -> Option<f64> {
+    let start = std::time::Instant::now();
+    let calls: [Option<usize>; 2] = std::thread::scope(|sc| {
+        let worker = || {
+            let mut state = init();
+            let mut calls = 0;
+            while calls < 3 || start.elapsed() < budget {
+                if !work(&mut state) {
+                    return None;
+                }
+                calls += 1;
+            }
+            Some(calls)
+        };
+        let h = [sc.spawn(worker), sc.spawn(worker)];
+        h.map(|h| h.join().ok().flatten())
+    });
+    let secs = start.elapsed().as_secs_f64();
+    Some(calls.into_iter().sum::<Option<usize>>()? as f64 / secs)
+}

@@ -8,7 +8,7 @@ use std::time::Duration;
 use tridist::{Engine, Mesh, Pose, Precision, Real};
 use tridist_scenes::mesh_scenes::TREE_WIDTHS;
 use tridist_scenes::peer::{FclMesh, Peer, PeerPose};
-use tridist_scenes::protocol::{carried_normalised as normalised, trajectory_pose as pose_k};
+use tridist_scenes::protocol::{carried_normalised as normalised, trajectory_pose as pose_k, NEAR_GAP};
 use tridist_scenes::workload::median_time;
 
 use crate::common::header;
@@ -297,28 +297,28 @@ fn contact_scaling<T: Real>(
 ) -> Scaling {
     let budget = budget.max(Duration::from_millis(250));
     let id = Pose::<T>::identity();
-    let run = |e: &Engine| drop(e.mesh_contacts(a, &id, b, pose, margin, None));
+    let run = |e: &Engine| e.mesh_contacts(a, &id, b, pose, margin, None).is_ok();
     let (mut two, mut apart) = (Vec::new(), Vec::new());
     for _ in 0..SCALING_ROUNDS {
-        let one = median_time(|| run(&e.threads(1)), budget);
-        two.push(one / median_time(|| run(&e.threads(2)), budget));
-        // two workers, each calling the one-thread query until the budget is spent
+        let one = median_time(
+            || {
+                run(&e.threads(1));
+            },
+            budget,
+        );
+        two.push(
+            one / median_time(
+                || {
+                    run(&e.threads(2));
+                },
+                budget,
+            ),
+        );
+        // two workers, each calling the one-thread query until the budget is spent (NaN,
+        // printed "-", if a call fails)
         let single = e.threads(1);
-        let start = std::time::Instant::now();
-        let calls: usize = std::thread::scope(|sc| {
-            let worker = || {
-                let mut calls = 0;
-                while calls < 3 || start.elapsed() < budget {
-                    run(&single);
-                    calls += 1;
-                }
-                calls
-            };
-            let h = [sc.spawn(worker), sc.spawn(worker)];
-            // (a worker's panic is the report's, not a smaller count)
-            h.into_iter().map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p))).sum()
-        });
-        apart.push(calls as f64 * one / start.elapsed().as_secs_f64());
+        let calls = crate::common::two_workers(budget, || (), |_| run(&single));
+        apart.push(calls.map_or(f64::NAN, |c| c * one));
     }
     Scaling { two: crate::common::median(two), apart: crate::common::median(apart) }
 }
@@ -366,9 +366,6 @@ fn verdict(h: Option<bool>) -> &'static str {
         None => "-",
     }
 }
-
-/// The gap of the near-contact placements (0.05 % of the scene's size).
-const NEAR_GAP: f64 = 1e-3;
 
 /// One near-contact placement: its distance (tridist f64) and the times of tridist (f32, f64)
 /// and FCL for the distance and the intersection test.

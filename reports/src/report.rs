@@ -95,25 +95,15 @@ fn threads_alternated<T: Peer>(w: &Workload<T>, e: Engine, budget: std::time::Du
 }
 
 /// Queries/s of two threads each answering the whole batch over and over on `e` for `budget`,
-/// together (total pairs over the time until both stop).
+/// together ([`crate::common::two_workers`]).
 fn apart<T: Peer>(w: &Workload<T>, e: Engine, budget: std::time::Duration) -> Option<f64> {
     let n = w.len(Query::TriTri);
-    let start = std::time::Instant::now();
-    let calls: Vec<Option<usize>> = std::thread::scope(|sc| {
-        let worker = || {
-            let (mut out, mut flags) = (vec![T::ZERO; n], vec![tridist::Intersection::Invalid; n]);
-            let mut calls = 0;
-            while calls < 3 || start.elapsed() < budget {
-                w.run(Query::TriTri, e, false, &mut out, &mut flags).ok()?;
-                calls += 1;
-            }
-            Some(calls)
-        };
-        let h = [sc.spawn(worker), sc.spawn(worker)];
-        h.map(|h| h.join().ok().flatten()).into()
-    });
-    let secs = start.elapsed().as_secs_f64();
-    Some(calls.into_iter().sum::<Option<usize>>()? as f64 * n as f64 / secs)
+    let calls = crate::common::two_workers(
+        budget,
+        || (vec![T::ZERO; n], vec![tridist::Intersection::Invalid; n]),
+        |(out, flags)| w.run(Query::TriTri, e, false, out, flags).is_ok(),
+    )?;
+    Some(calls * n as f64)
 }
 
 const TOLERANCES: [(&str, Tolerance); 5] = [

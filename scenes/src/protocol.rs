@@ -252,6 +252,10 @@ pub fn trajectory_pose(k: usize, poses: usize) -> (([f64; 3], [f64; 3]), Pose<f6
     (([x, 0.0, 0.0], axis.map(|a| a * angle)), Pose::from_axis_angle(axis, angle, [x, 0.0, 0.0]))
 }
 
+/// The gap of the mesh report's near-contact placements ([`near_contact_pose`]): 0.05 % of
+/// the scene's size.
+pub const NEAR_GAP: f64 = 1e-3;
+
 /// Near-contact placement `k` of the mesh report (MESH.md, "Near contact at random
 /// orientations") for the base seed `seed`: `b` rotated about a random axis by a random angle
 /// and moved along a random direction until its distance to `a` (both in [-1, 1]^3, `a` at
