@@ -153,18 +153,30 @@ pub(crate) struct Scaled<L: Lanes, const K: usize> {
 pub(crate) fn prescale<L: Lanes, const K: usize>(pts: [V3<L>; K]) -> Scaled<L, K> {
     let k = Cx::of(pts[0].x);
     let big = k.splat(L::S::MAX);
-    let mut m = k.splat(L::S::MIN_POSITIVE);
     // Finite when no coordinate is NaN (their sum is not NaN; a finite sum may overflow to
     // inf, which the second test does not read) and none is infinite (then the largest, a true
     // maximum without NaN, is at most MAX): two comparisons instead of one per coordinate.
-    let mut sum = k.zero();
+    // Both reduced as trees (a chain of 3K dependent operations would lie on every lane's
+    // critical path).
+    let mut sums = [k.zero(); 18];
+    let mut maxs = [k.zero(); 18];
+    let mut n = 0;
     for v in &pts {
         for x in [v.x, v.y, v.z] {
-            let a = x.abs();
-            sum = sum.add(a);
-            m = m.max(a);
+            sums[n] = x.abs();
+            maxs[n] = sums[n];
+            n += 1;
         }
     }
+    while n > 1 {
+        let h = n / 2;
+        for i in 0..h {
+            sums[i] = sums[i].add(sums[i + n - h]);
+            maxs[i] = maxs[i].max(maxs[i + n - h]);
+        }
+        n -= h;
+    }
+    let (sum, m) = (sums[0], maxs[0].max(k.splat(L::S::MIN_POSITIVE)));
     let finite = sum.eq(sum).and(m.le(big));
     let (p, inv) = (m.exponent(), m.recip_exponent());
     let mut out = pts;
