@@ -1,5 +1,5 @@
 //! Runs one query on one workload for a few seconds (for `perf record`):
-//! `cargo run --release -p tridist-benches --bin spin -- tri_tri random f32 avx2fma 5 [pairs [threads]]`,
+//! `cargo run --release -p tridist-benches --bin spin -- tri_tri random f32 avx2fma 5 [pairs [threads [sqdist|points]]]`,
 //! or a mesh query on the mesh report's scene (Armadillo fixed, fandisk at trajectory pose
 //! `k` of 12, or at near-contact placement `n<k>` of MESH.md, 0.001 apart):
 //! `spin mesh contacts|distance|intersect|build <k>|n<k> f32|f64 <threads> <secs>`.
@@ -7,7 +7,7 @@ use tridist::{Engine, Intersection, Isa, Query};
 use tridist_scenes::workload::Workload;
 use tridist_scenes::{families, Family};
 
-const USAGE: &str = "usage: spin <query> <family|arm_nearby> f32|f64 <variant|fcl> <secs> [pairs [threads]]
+const USAGE: &str = "usage: spin <query> <family|arm_nearby> f32|f64 <variant|fcl> <secs> [pairs [threads [sqdist|points]]]
        spin mesh contacts|distance|intersect|build <pose 0-11 | near placement n0-n11> f32|f64 <threads> <secs>";
 
 /// Bad arguments: the reason and the usage on stderr, exit status 2.
@@ -28,8 +28,8 @@ fn main() {
             _ => usage("the precision is f32 or f64"),
         };
     }
-    if !(5..=7).contains(&a.len()) {
-        usage("a batch query takes 5 to 7 arguments");
+    if !(5..=8).contains(&a.len()) {
+        usage("a batch query takes 5 to 8 arguments");
     }
     let q = Query::parse(&a[0]).unwrap_or_else(|| usage("unknown query"));
     let arm = || tridist_scenes::mesh::carried("armadillo.off").expect("armadillo");
@@ -49,6 +49,15 @@ fn main() {
         .get(6)
         .map_or(Some(1), |x| x.parse().ok().filter(|n| *n > 0))
         .unwrap_or_else(|| usage("threads must be a positive number"));
+    // optional: the outputs, squared distances only (the default) or with closest points
+    let points = match a.get(7).map(String::as_str) {
+        None | Some("sqdist") => false,
+        Some("points") => true,
+        Some(_) => usage("the outputs are sqdist or points"),
+    };
+    if points && q.is_verdict() {
+        usage("a verdict query has no closest points");
+    }
     if a[2] != "f32" && a[2] != "f64" {
         usage("the precision is f32 or f64");
     }
@@ -68,8 +77,11 @@ fn main() {
             let len = w.len(q);
             let (mut out, mut v) = (vec![0.0 as $t; len], vec![Intersection::Invalid; len]);
             let mut counts = tridist::PathCounts::default();
+            let mut cp = vec![tridist::ClosestPoints::<$t>::default(); if points { len } else { 0 }];
             while t.elapsed().as_secs_f64() < secs {
-                counts.add(&w.run(q, e, false, &mut out, &mut v).expect("run"));
+                let c =
+                    if points { w.run_points(q, e, &mut cp) } else { w.run(q, e, false, &mut out, &mut v) };
+                counts.add(&c.expect("run"));
                 n += len;
             }
             println!("{counts:?}");

@@ -13,7 +13,7 @@ use tridist_scenes::eval::{run_with, summarise, sweep_family, truth, Row, Stats,
 use tridist_scenes::float::Float;
 use tridist_scenes::peer::{self, Lib, Peer};
 use tridist_scenes::protocol::{self, Named};
-use tridist_scenes::workload::{measure, Workload};
+use tridist_scenes::workload::{measure, measure_points, Workload};
 use tridist_scenes::{families, Family};
 
 use crate::common::{fmt, header, Progress};
@@ -171,16 +171,25 @@ fn queries_of(id: &str) -> Vec<Query> {
 /// rows of the triangle-distance query.
 fn throughput_one<T: Peer>(s: &Settings, wl: &Named, m: &mut Measured, prog: &mut Progress) {
     let w = Workload::<T>::new(&wl.pairs, 0.02);
-    let row = |q: Query, imp: &str, threads: usize, tol: &str, r: tridist_scenes::workload::Measured| TRow {
+    // (FCL's triangle distance always computes closest points; the other peer's and our own
+    // rows write the answer alone unless `points` says so)
+    let row_out = |q: Query,
+                   imp: &str,
+                   threads: usize,
+                   tol: &str,
+                   points: bool,
+                   r: tridist_scenes::workload::Measured| TRow {
         workload: wl.id.into(),
         query: q.name().into(),
         implementation: imp.into(),
         precision: T::NAME.into(),
         threads,
         tolerance: tol.into(),
+        outputs: if points || imp == Lib::Fcl.name() { "points" } else { "answer" }.into(),
         qps: r.qps,
         counts: r.counts,
     };
+    let row = |q: Query, imp: &str, threads: usize, tol: &str, r| row_out(q, imp, threads, tol, false, r);
     for q in queries_of(wl.id) {
         for v in Variant::ALL {
             match measure(&w, q, v, None, s.budget) {
@@ -216,6 +225,16 @@ fn throughput_one<T: Peer>(s: &Settings, wl: &Named, m: &mut Measured, prog: &mu
         let Ok(et) = e.tolerance(tol) else { continue };
         if let Some(Ok(r)) = measure(&w, Query::TriTri, v, Some(et), s.budget) {
             m.thr.push(row(Query::TriTri, v.name(), 1, name, r));
+        }
+    }
+    // with closest points, like for like with FCL, for the variants the comparison shows
+    for v in Variant::ALL.into_iter().filter(|x| shown_variants(v.name()).contains(&x.name())) {
+        match measure_points(&w, Query::TriTri, v, s.budget) {
+            None => {}
+            Some(Ok(r)) => m.thr.push(row_out(Query::TriTri, v.name(), 1, "default", true, r)),
+            Some(Err(e)) => {
+                m.failed.push(format!("{} tri_tri {} {} with points: {e}", wl.id, v.name(), T::NAME))
+            }
         }
     }
     let (a, b) = w.triangles();
@@ -320,7 +339,20 @@ fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), String> {
 }
 
 /// Lookup of a throughput figure (default tolerance unless named).
-fn qps(t: &[TRow], wl: &str, q: Query, imp: &str, p: &str, threads: usize, tol: &str) -> Option<f64> {
+/// Lookup of a throughput figure (default tolerance unless named; the answer alone, or
+/// closest points too when `points`: a peer has one row, whatever it computes).
+#[allow(clippy::too_many_arguments)]
+fn qps_of(
+    t: &[TRow],
+    wl: &str,
+    q: Query,
+    imp: &str,
+    p: &str,
+    threads: usize,
+    tol: &str,
+    points: bool,
+) -> Option<f64> {
+    let peer = Lib::ALL.iter().any(|l| l.name() == imp);
     t.iter()
         .find(|r| {
             r.workload == wl
@@ -329,13 +361,24 @@ fn qps(t: &[TRow], wl: &str, q: Query, imp: &str, p: &str, threads: usize, tol: 
                 && r.precision == p
                 && r.threads == threads
                 && r.tolerance == tol
+                && (peer || (r.outputs == "points") == points)
         })
         .map(|r| r.qps)
+}
+
+/// [`qps_of`] of the answer alone.
+fn qps(t: &[TRow], wl: &str, q: Query, imp: &str, p: &str, threads: usize, tol: &str) -> Option<f64> {
+    qps_of(t, wl, q, imp, p, threads, tol, false)
 }
 
 fn q1(t: &[TRow], wl: &str, q: Query, imp: &str, p: &str) -> Option<f64> {
     let tol = if Lib::ALL.iter().any(|l| l.name() == imp) { "-" } else { "default" };
     qps(t, wl, q, imp, p, 1, tol)
+}
+
+/// One thread, default tolerance, with closest points.
+fn q1_points(t: &[TRow], wl: &str, imp: &str, p: &str) -> Option<f64> {
+    qps_of(t, wl, Query::TriTri, imp, p, 1, "default", true)
 }
 
 fn mq(x: Option<f64>) -> String {
@@ -613,10 +656,31 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
     for lib in Lib::ALL.iter().filter(|l| !l.available()) {
         let _ = writeln!(t, "- {} not measured: {}", lib.name(), lib.missing_reason());
     }
+    let own_pts: String = shown.iter().map(|v| format!(" tridist {v} | {v} with points |")).collect();
+    let pts_fcl: String = shown.iter().map(|v| format!(" {v} with points / FCL |")).collect();
+    let _ = writeln!(t, "\n## With closest points: like for like with FCL\n\nFCL's `TriangleDistance` always computes the closest points. The table above times tridist writing squared distances alone, the cheapest output (what a caller that asks only for distances gets). Here tridist also writes the closest points (`Outputs::closest_points`), the output FCL's figure includes; the squared distances of that pass are first checked, bit for bit, against the pass without points. Million pairs per second, one thread.\n\n| workload | prec |{own_pts} FCL |{pts_fcl}\n|---|---|{}---|{}", "---|---|".repeat(shown.len()), "---|".repeat(shown.len()));
+    for &(id, title) in m.workloads.iter().filter(|w| w.0 == "random" || w.0 == "arm_nearby") {
+        for p in ["f32", "f64"] {
+            let fcl = q1(thr, id, Query::TriTri, "fcl", p);
+            let both: String = shown
+                .iter()
+                .map(|v| {
+                    format!(" {} | {} |", mq(q1(thr, id, Query::TriTri, v, p)), mq(q1_points(thr, id, v, p)))
+                })
+                .collect();
+            let r: String =
+                shown.iter().map(|v| format!(" **{}** |", ratio(q1_points(thr, id, v, p), fcl))).collect();
+            let _ = writeln!(t, "| {title} | {p} |{both} {} |{r}", mq(fcl));
+        }
+    }
     let _ = writeln!(t, "\n## Where the pairs go ({bn}, default tolerance)\n\nThe certified pipeline: a fast stage answers every pair with an interval (for triangle-triangle distance a quick stage on one edge pair per triangle pair, then, for the pairs it leaves open, gathered into full vectors, the full fast stage on all fifteen candidates: refined); pairs whose interval is wider than the tolerance are re-certified with the tight certificate, then recomputed by the accurate stage in compacted full vectors, then (f32) in f64 from the exactly widened input. Intersection and within-margin first run a cheap test and hand the undecided pairs on (delegated). Percent of the pairs of one pass.\n\n| workload | query | prec | pairs | prefiltered | delegated | refined | recertified | compacted | to f64 | exact | uncertified |\n|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &(id, title) in &m.workloads {
         for r in thr.iter().filter(|r| {
-            r.workload == id && r.implementation == bn && r.threads == 1 && r.tolerance == "default"
+            r.workload == id
+                && r.implementation == bn
+                && r.threads == 1
+                && r.tolerance == "default"
+                && r.outputs == "answer"
         }) {
             let c = &r.counts;
             let _ = writeln!(
@@ -647,6 +711,7 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
                         && r.precision == p
                         && r.threads == 1
                         && r.tolerance == name
+                        && r.outputs == "answer"
                 }) else {
                     continue;
                 };
@@ -916,11 +981,13 @@ fn update_readme(path: &Path, m: &Measured, mesh: &str) -> Result<(), String> {
             .iter()
             .map(|v| {
                 format!(
-                    "{v} f32 {} M/s, f64 {} M/s: **{} (f32)** and **{} (f64)** FCL's speed",
+                    "{v} f32 {} M/s, f64 {} M/s: **{} (f32)** and **{} (f64)** FCL's speed, {} and {} with closest points (as FCL computes them)",
                     mq(q(wl, v, "f32")),
                     mq(q(wl, v, "f64")),
                     ratio(q(wl, v, "f32"), fcl),
-                    ratio(q(wl, v, "f64"), fcl)
+                    ratio(q(wl, v, "f64"), fcl),
+                    ratio(q1_points(&m.thr, wl, v, "f32"), fcl),
+                    ratio(q1_points(&m.thr, wl, v, "f64"), fcl)
                 )
             })
             .collect();

@@ -7,13 +7,14 @@ use std::path::Path;
 use tridist::PathCounts;
 
 /// The CSV header, in order.
-pub const HEADER: [&str; 16] = [
+pub const HEADER: [&str; 17] = [
     "workload",
     "query",
     "implementation",
     "precision",
     "threads",
     "tolerance",
+    "outputs",
     "queries_per_second",
     "pairs",
     "prefiltered",
@@ -42,6 +43,9 @@ pub struct TRow {
     pub threads: usize,
     /// Tolerance setting (`default`, `scaled:K`, `abs:X`, `exact`); `-` for peers.
     pub tolerance: String,
+    /// What each query wrote: `answer` (squared distances only, or verdicts), or `points`
+    /// (squared distances and closest points, as FCL's `TriangleDistance` always computes).
+    pub outputs: String,
     /// Queries per second (NaN when the result check failed).
     pub qps: f64,
     /// Path counts of one pass (zero for peers).
@@ -58,6 +62,7 @@ impl TRow {
             self.precision.clone(),
             self.threads.to_string(),
             self.tolerance.clone(),
+            self.outputs.clone(),
             format!("{:.0}", self.qps),
         ];
         v.extend(
@@ -111,9 +116,16 @@ pub fn read(path: &Path) -> Result<Vec<TRow>, String> {
                 .parse()
                 .map_err(|_| format!("{}:{line}: {} {:?} is not a count", path.display(), HEADER[k], &rec[k]))
         };
-        let qps: f64 = rec[6].parse().map_err(|_| {
-            format!("{}:{line}: queries_per_second {:?} is not a number", path.display(), &rec[6])
+        let qps: f64 = rec[7].parse().map_err(|_| {
+            format!("{}:{line}: queries_per_second {:?} is not a number", path.display(), &rec[7])
         })?;
+        if rec[6] != *"answer" && rec[6] != *"points" {
+            return Err(format!(
+                "{}:{line}: outputs {:?} is neither answer nor points",
+                path.display(),
+                &rec[6]
+            ));
+        }
         out.push(TRow {
             workload: rec[0].to_string(),
             query: rec[1].to_string(),
@@ -121,17 +133,18 @@ pub fn read(path: &Path) -> Result<Vec<TRow>, String> {
             precision: rec[3].to_string(),
             threads: num(4)? as usize,
             tolerance: rec[5].to_string(),
+            outputs: rec[6].to_string(),
             qps,
             counts: PathCounts {
-                pairs: num(7)?,
-                prefiltered: num(8)?,
-                delegated: num(9)?,
-                refined: num(10)?,
-                recertified: num(11)?,
-                compacted: num(12)?,
-                widened: num(13)?,
-                exact: num(14)?,
-                uncertified: num(15)?,
+                pairs: num(8)?,
+                prefiltered: num(9)?,
+                delegated: num(10)?,
+                refined: num(11)?,
+                recertified: num(12)?,
+                compacted: num(13)?,
+                widened: num(14)?,
+                exact: num(15)?,
+                uncertified: num(16)?,
             },
         });
     }
@@ -154,6 +167,7 @@ mod tests {
             precision: "f32".into(),
             threads: 2,
             tolerance: "default".into(),
+            outputs: "points".into(),
             qps: 12345.0,
             counts: PathCounts { pairs: 10, refined: 5, compacted: 3, ..PathCounts::default() },
         }];
@@ -164,7 +178,7 @@ mod tests {
         let mut bad = std::fs::read_to_string(dir.join("t.csv")).unwrap_or_default();
         bad.clear();
         bad.push_str(&HEADER.join(","));
-        bad.push_str("\nw,q,i,f32,one,default,1,1,0,0,0,0,0,0,0,0\n");
+        bad.push_str("\nw,q,i,f32,one,default,answer,1,1,0,0,0,0,0,0,0,0\n");
         std::fs::write(&p, bad).unwrap();
         let e = read(&p).unwrap_err();
         assert!(e.contains(":2: threads"), "{e}");
@@ -182,5 +196,13 @@ mod tests {
             assert!(rows.iter().any(|r| r.query == q.name()), "{} never measured", q.name());
         }
         assert!(rows.iter().any(|r| r.implementation == "parry3d"));
+        assert!(
+            rows.iter().all(|r| r.outputs == "answer" || r.outputs == "points"),
+            "an unknown outputs value"
+        );
+        assert!(
+            rows.iter().any(|r| r.outputs == "points" && r.query == "tri_tri" && r.tolerance == "default"),
+            "triangle distance with closest points never measured"
+        );
     }
 }

@@ -366,13 +366,29 @@ fn a_small_report_writes_parseable_files() {
         assert!(c[4..6].iter().all(|x| x.parse::<f64>().unwrap() > 0.0), "{c:?}");
         assert!(c[6].ends_with('x') && c[7].ends_with('x'), "{c:?}");
     }
+    // triangle distance with closest points (like for like with FCL): both precisions of both
+    // FCL workloads, tridist's figures with and without points measured (FCL's only with it)
+    let pts: Vec<Vec<&str>> = thr
+        .split("## With closest points")
+        .nth(1)
+        .expect("the closest-points section")
+        .lines()
+        .skip(6)
+        .take_while(|l| l.starts_with("| "))
+        .map(|l| l.split('|').map(str::trim).collect())
+        .collect();
+    assert_eq!(pts.len(), 4, "{thr}");
+    for c in &pts {
+        assert!(c[3..5].iter().all(|x| x.parse::<f64>().unwrap() > 0.0), "{c:?}");
+    }
     let mut r = csv::Reader::from_path(dir.join("throughput.csv")).unwrap();
-    assert_eq!(r.headers().unwrap().len(), 16);
+    assert_eq!(r.headers().unwrap().len(), 17);
     let rows: Vec<csv::StringRecord> = r.records().map(|x| x.unwrap()).collect();
     for q in tridist::Query::ALL {
         assert!(rows.iter().any(|x| &x[1] == q.name()), "{}", q.name());
     }
-    assert!(rows.iter().all(|x| x.len() == 16 && x[6].parse::<f64>().unwrap() > 0.0));
+    assert!(rows.iter().all(|x| x.len() == 17 && x[7].parse::<f64>().unwrap() > 0.0));
+    assert!(rows.iter().any(|x| &x[1] == "tri_tri" && &x[6] == "points"), "no row with closest points");
     for f in ["tradeoff.svg", "magnitude.svg", "offset.svg", "penalty.svg"] {
         let t = std::fs::read_to_string(dir.join(f)).unwrap();
         assert!(t.starts_with("<svg") && t.trim_end().ends_with("</svg>"), "{f}");

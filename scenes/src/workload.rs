@@ -7,7 +7,9 @@ use std::time::{Duration, Instant};
 
 use crate::eval::Variant;
 use crate::float::Float;
-use tridist::{Batch, Engine, Intersection, Outputs, PathCounts, Point, Prims, Query, Triangle};
+use tridist::{
+    Batch, ClosestPoints, Engine, Intersection, Outputs, PathCounts, Point, Prims, Query, Triangle,
+};
 
 /// Prepared primitives of one arity in both layouts.
 struct Side<T: Float, const KA: usize, const KB: usize> {
@@ -92,6 +94,29 @@ impl<T: Float> Workload<T> {
     }
 }
 
+impl<T: Float> Workload<T> {
+    /// Runs one pass of the distance query `q` (not a verdict query) on `e`, SoA inputs, with
+    /// squared distances and closest points into `out`: the outputs a contact or clearance code
+    /// asks for, and what FCL's `TriangleDistance` computes.
+    ///
+    /// # Errors
+    /// As the batch API.
+    pub fn run_points(
+        &self,
+        q: Query,
+        e: Engine,
+        out: &mut [ClosestPoints<T>],
+    ) -> Result<PathCounts, tridist::Error> {
+        let e = if q == Query::Within { e.margin(self.margin)? } else { e };
+        let o = Outputs::new().closest_points(out);
+        match q.arity() {
+            (2, 2) => self.seg.run(e, q, false, o),
+            (1, 3) => self.pt.run(e, q, false, o),
+            _ => self.tri.run(e, q, false, o),
+        }
+    }
+}
+
 /// Median seconds per call of `f` after one warm-up call, repeating until `budget` is used
 /// (at least 3 timed calls).
 pub fn median_time(mut f: impl FnMut(), budget: Duration) -> f64 {
@@ -157,6 +182,41 @@ pub fn check<T: Float>(w: &Workload<T>, q: Query, variant: Variant) -> Option<Re
         return Some(Err(format!("result check failed: sum of distances {s} vs {rs}")));
     }
     Some(Ok(()))
+}
+
+/// [`measure`] with closest points ([`Workload::run_points`], SoA layout), after checking that
+/// the squared distances are those of the same variant's pass without points, bit for bit (the
+/// same kernels; only the outputs differ): `None` when the variant is unavailable.
+pub fn measure_points<T: Float>(
+    w: &Workload<T>,
+    q: Query,
+    variant: Variant,
+    budget: Duration,
+) -> Option<Result<Measured, String>> {
+    let e = Engine::new(variant.isa()).ok()?;
+    let n = w.len(q);
+    let (mut d, mut flags) = (vec![T::ZERO; n], vec![Intersection::Invalid; n]);
+    let mut cp = vec![ClosestPoints::<T>::default(); n];
+    let counts = match w.run(q, e, false, &mut d, &mut flags).and_then(|_| w.run_points(q, e, &mut cp)) {
+        Ok(c) => c,
+        Err(err) => return Some(Err(err.to_string())),
+    };
+    let bits = |x: T| x.to_f64().to_bits();
+    if let Some(i) = (0..n).find(|&i| bits(cp[i].sqdist) != bits(d[i])) {
+        return Some(Err(format!(
+            "result check failed: pair {i} has squared distance {:e} with points, {:e} without",
+            cp[i].sqdist.to_f64(),
+            d[i].to_f64()
+        )));
+    }
+    let t = median_time(
+        || {
+            let _ = w.run_points(q, e, &mut cp);
+            std::hint::black_box(&cp);
+        },
+        budget,
+    );
+    Some(Ok(Measured { qps: n as f64 / t, counts }))
 }
 
 /// One throughput measurement.
