@@ -204,6 +204,8 @@ macro_rules! vec_type {
             type M = $mask<K>;
             type K = K;
             const N: usize = $n;
+            type Arr = [$s; $n];
+            const ZEROS: [$s; $n] = [0.0; $n];
             const FMA: bool = $fma;
             #[inline(always)]
             fn token(self) -> K {
