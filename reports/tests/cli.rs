@@ -216,13 +216,15 @@ fn bench_times_every_kernel_and_a_peer() {
 fn advise_reads_the_csv_and_picks_a_variant() {
     let dir = tmp("advise");
     let csv = dir.join("t.csv");
-    let head = "workload,query,implementation,precision,threads,tolerance,queries_per_second,pairs,prefiltered,delegated,refined,recertified,compacted,widened,exact,uncertified\n";
-    std::fs::write(&csv, format!("{head}random,tri_tri,scalar,f64,1,default,100,1,0,0,0,0,0,0,0,0\nrandom,tri_tri,scalar,f32,1,default,200,1,0,0,0,0,0,0,0,0\n")).unwrap();
+    let head = "workload,query,implementation,precision,threads,tolerance,outputs,queries_per_second,pairs,prefiltered,delegated,refined,recertified,compacted,widened,exact,uncertified\n";
+    // (a row with closest points first: advise reads the answer-only figure)
+    std::fs::write(&csv, format!("{head}random,tri_tri,scalar,f64,1,default,points,999,1,0,0,0,0,0,0,0,0\nrandom,tri_tri,scalar,f64,1,default,answer,100,1,0,0,0,0,0,0,0,0\nrandom,tri_tri,scalar,f32,1,default,answer,200,1,0,0,0,0,0,0,0,0\n")).unwrap();
     // f32: 8 * 2^-24 * 1e3 = 4.8e-4 > 1e-6; f64 meets it
     let (code, out, _) =
         tridist(&["advise", "--scale", "1e3", "--tolerance", "1e-6", "--csv", csv.to_str().unwrap()], "");
     assert_eq!(code, 0, "{out}");
     assert!(out.contains("advice: scalar f64"), "{out}");
+    assert!(out.contains("; 100 queries/s") && !out.contains("999"), "{out}");
     let (code, out, _) =
         tridist(&["advise", "--scale", "1e3", "--tolerance", "1e-15", "--csv", csv.to_str().unwrap()], "");
     assert_eq!(code, 1, "{out}");
