@@ -794,7 +794,7 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
             let _ = writeln!(t, "- {f}");
         }
     }
-    let _ = writeln!(t, "\nMachine-readable: [throughput.csv](throughput.csv) (every row above, read by `tridist advise`; columns: {}). The Stanford Armadillo is courtesy of the Stanford Computer Graphics Laboratory.", table::HEADER.join(", "));
+    let _ = writeln!(t, "\nMachine-readable: [throughput.csv](throughput.csv) (every row above, read by `tridist advise`; columns: {}; `outputs` is `answer` for squared distances or verdicts alone, `points` when closest points were written too, as FCL always does). The Stanford Armadillo is courtesy of the Stanford Computer Graphics Laboratory.", table::HEADER.join(", "));
     t
 }
 
