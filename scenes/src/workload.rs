@@ -92,9 +92,7 @@ impl<T: Float> Workload<T> {
             _ => self.tri.run(e, q, aos, o),
         }
     }
-}
 
-impl<T: Float> Workload<T> {
     /// Runs one pass of the distance query `q` (not a verdict query) on `e`, SoA inputs, with
     /// squared distances and closest points into `out`: the outputs a contact or clearance code
     /// asks for, and what FCL's `TriangleDistance` computes.

@@ -158,13 +158,14 @@ pub(crate) fn prescale<L: Lanes, const K: usize>(pts: [V3<L>; K]) -> Scaled<L, K
     // maximum without NaN, is at most MAX): two comparisons instead of one per coordinate.
     // Both reduced as trees (a chain of 3K dependent operations would lie on every lane's
     // critical path).
+    const { assert!(K <= 6, "prescale takes at most six points") };
     let mut sums = [k.zero(); 18];
     let mut maxs = [k.zero(); 18];
     let mut n = 0;
     for v in &pts {
         for x in [v.x, v.y, v.z] {
-            sums[n] = x.abs();
-            maxs[n] = sums[n];
+            let a = x.abs();
+            (sums[n], maxs[n]) = (a, a);
             n += 1;
         }
     }
