@@ -453,16 +453,21 @@ fn write<L: Lanes>(
         && s.iv.is_none()
         && s.iters.is_none()
         && s.ok.is_none();
-    let shut = !ok & ((1u32 << ids.len()) - 1);
+    // The indices rise strictly (a pass numbers its lanes in order, a gathered pass its open
+    // list, pushed in order), so first and last `n - 1` apart means consecutive.
+    let n = ids.len();
+    debug_assert!(ids.windows(2).all(|w| w[0] < w[1]));
+    let at = ids[0] as usize;
+    let consecutive = ids[n - 1] as usize == at + n - 1;
+    let shut = !ok & ((1u32 << n) - 1);
     // The common cases: squared distances only (no verdict queries, no other output), and the
     // open pairs' answers not needed (the next stage recomputes them and writes over these):
     // one vector store for consecutive pairs, a scatter for gathered ones, then the open
     // lanes' indices.
     if only_d && (shut == 0 || !answers) {
         if let Some(d) = job.sink.d.as_deref_mut() {
-            if ids.len() == L::N && ids[L::N - 1] == ids[0] + (L::N as u32 - 1) {
-                let i = ids[0] as usize;
-                o.d.store(&mut d[i..i + L::N]);
+            if consecutive && n == L::N {
+                o.d.store(&mut d[at..at + L::N]);
             } else {
                 let mut buf = L::ZEROS;
                 o.d.store(buf.as_mut());
@@ -488,13 +493,7 @@ fn write<L: Lanes>(
     // `Sink::put`, eight tests and a bounds check per lane, and a 640-byte lane buffer cleared
     // per group, asking for closest points took 199 instructions per pair against 128 for
     // squared distances alone, now 147: callgrind of `spin tri_tri arm_nearby f32 avx2fma 0.3
-    // 4000 1 points|sqdist`.) The indices rise strictly (a pass numbers its lanes in order, a
-    // gathered pass its open list, pushed in order), so first and last `n - 1` apart means
-    // consecutive.
-    let n = ids.len();
-    debug_assert!(ids.windows(2).all(|w| w[0] < w[1]));
-    let at = ids[0] as usize;
-    let consecutive = ids[n - 1] as usize == at + n - 1;
+    // 4000 1 points|sqdist`.)
     macro_rules! each {
         ($out:expr, $l:ident => $val:expr) => {
             if let Some(s) = $out.as_deref_mut() {

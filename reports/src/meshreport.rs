@@ -405,10 +405,6 @@ fn near_rows(
     let fcl = FclMesh::new(&a.vertices, &a.triangles).zip(FclMesh::new(&b.vertices, &b.triangles));
     let e = Engine::auto();
     let (id32, id64) = (Pose::<f32>::identity(), Pose::<f64>::identity());
-    let dist = |p: &Pose<f64>| -> Result<f64, String> {
-        let r = e.mesh_distance(&a64, &id64, &b64, p).map_err(|x| x.to_string())?;
-        Ok(r.map_or(f64::INFINITY, |r| r.sqdist.sqrt()))
-    };
     let mut out = Vec::new();
     for k in 0..placements {
         let pose64 = tridist_scenes::protocol::near_contact_pose(&a64, &b64, seed, k as u64, NEAR_GAP)?;
@@ -416,7 +412,7 @@ fn near_rows(
             rotation: pose64.rotation.map(|r| r.map(|x| x as f32)),
             translation: pose64.translation.map(|x| x as f32),
         };
-        let d = dist(&pose64)?;
+        let d = tridist_scenes::protocol::mesh_gap(&e, &a64, &b64, &pose64)?;
         let t_d32 = median_time(|| drop(e.mesh_distance(&a32, &id32, &b32, &pose32)), budget);
         let t_d64 = median_time(|| drop(e.mesh_distance(&a64, &id64, &b64, &pose64)), budget);
         let mut hit = false;

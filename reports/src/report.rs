@@ -228,12 +228,13 @@ fn throughput_one<T: Peer>(s: &Settings, wl: &Named, m: &mut Measured, prog: &mu
         }
     }
     // with closest points, like for like with FCL, for the variants the comparison shows
-    for v in Variant::ALL.into_iter().filter(|x| shown_variants(v.name()).contains(&x.name())) {
-        match measure_points(&w, Query::TriTri, v, s.budget) {
+    let shown = shown_variants(v.name());
+    for x in Variant::ALL.into_iter().filter(|x| shown.contains(&x.name())) {
+        match measure_points(&w, Query::TriTri, x, s.budget) {
             None => {}
-            Some(Ok(r)) => m.thr.push(row_out(Query::TriTri, v.name(), 1, "default", true, r)),
+            Some(Ok(r)) => m.thr.push(row_out(Query::TriTri, x.name(), 1, "default", true, r)),
             Some(Err(e)) => {
-                m.failed.push(format!("{} tri_tri {} {} with points: {e}", wl.id, v.name(), T::NAME))
+                m.failed.push(format!("{} tri_tri {} {} with points: {e}", wl.id, x.name(), T::NAME))
             }
         }
     }
@@ -338,7 +339,6 @@ fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), String> {
     std::fs::write(dir.join(name), text).map_err(|e| format!("{}: {e}", dir.join(name).display()))
 }
 
-/// Lookup of a throughput figure (default tolerance unless named).
 /// Lookup of a throughput figure (default tolerance unless named; the answer alone, or
 /// closest points too when `points`: a peer has one row, whatever it computes).
 #[allow(clippy::too_many_arguments)]
@@ -352,7 +352,7 @@ fn qps_of(
     tol: &str,
     points: bool,
 ) -> Option<f64> {
-    let peer = Lib::ALL.iter().any(|l| l.name() == imp);
+    let peer = is_peer(imp);
     t.iter()
         .find(|r| {
             r.workload == wl
@@ -371,8 +371,13 @@ fn qps(t: &[TRow], wl: &str, q: Query, imp: &str, p: &str, threads: usize, tol: 
     qps_of(t, wl, q, imp, p, threads, tol, false)
 }
 
+/// Is `imp` a peer library (its rows have no tolerance, and one output set)?
+fn is_peer(imp: &str) -> bool {
+    Lib::ALL.iter().any(|l| l.name() == imp)
+}
+
 fn q1(t: &[TRow], wl: &str, q: Query, imp: &str, p: &str) -> Option<f64> {
-    let tol = if Lib::ALL.iter().any(|l| l.name() == imp) { "-" } else { "default" };
+    let tol = if is_peer(imp) { "-" } else { "default" };
     qps(t, wl, q, imp, p, 1, tol)
 }
 

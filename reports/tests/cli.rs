@@ -353,15 +353,7 @@ fn a_small_report_writes_parseable_files() {
     }
     // threads: both precisions of both workloads at the run's batch and the large one
     let thr = std::fs::read_to_string(dir.join("THROUGHPUT.md")).unwrap();
-    let rows: Vec<Vec<&str>> = thr
-        .split("## Threads")
-        .nth(1)
-        .expect("the threads section")
-        .lines()
-        .skip(6)
-        .take_while(|l| l.starts_with("| "))
-        .map(|l| l.split('|').map(str::trim).collect())
-        .collect();
+    let rows = section_rows(&thr, "## Threads");
     assert_eq!(rows.len(), 8, "{thr}");
     for c in &rows {
         assert!(c[3] == "64" || c[3] == "65536", "{c:?}");
@@ -370,15 +362,7 @@ fn a_small_report_writes_parseable_files() {
     }
     // triangle distance with closest points (like for like with FCL): both precisions of both
     // FCL workloads, tridist's figures with and without points measured (FCL's only with it)
-    let pts: Vec<Vec<&str>> = thr
-        .split("## With closest points")
-        .nth(1)
-        .expect("the closest-points section")
-        .lines()
-        .skip(6)
-        .take_while(|l| l.starts_with("| "))
-        .map(|l| l.split('|').map(str::trim).collect())
-        .collect();
+    let pts = section_rows(&thr, "## With closest points");
     assert_eq!(pts.len(), 4, "{thr}");
     for c in &pts {
         assert!(c[3..5].iter().all(|x| x.parse::<f64>().unwrap() > 0.0), "{c:?}");
@@ -400,6 +384,19 @@ fn a_small_report_writes_parseable_files() {
     assert!(t.contains("tridist avx2fma f32") || !tridist::Isa::Avx2Fma.is_available());
     // every peer is on the picture, even with an infinite E (drawn at the cap, said in the legend)
     assert!(t.contains("parry3d f64") && t.contains("parry3d f32"), "a peer is missing from tradeoff.svg");
+}
+
+/// The cells of the table of the section of `md` headed `heading`: its rows after the heading
+/// line, a blank line, the section's paragraph, a blank line, the header and the separator.
+fn section_rows<'a>(md: &'a str, heading: &str) -> Vec<Vec<&'a str>> {
+    md.split(heading)
+        .nth(1)
+        .unwrap_or_else(|| panic!("no section {heading}"))
+        .lines()
+        .skip(6)
+        .take_while(|l| l.starts_with("| "))
+        .map(|l| l.split('|').map(str::trim).collect())
+        .collect()
 }
 
 /// A reader that stops early (`tridist cases ... | head -1`) ends the command quietly with

@@ -256,6 +256,20 @@ pub fn trajectory_pose(k: usize, poses: usize) -> (([f64; 3], [f64; 3]), Pose<f6
 /// the scene's size.
 pub const NEAR_GAP: f64 = 1e-3;
 
+/// The distance of `a` at rest and `b` in `pose` on `e` (f64; `+inf` when a mesh is empty).
+///
+/// # Errors
+/// The mesh query's error, as text.
+pub fn mesh_gap(
+    e: &tridist::Engine,
+    a: &tridist::Mesh<f64>,
+    b: &tridist::Mesh<f64>,
+    pose: &Pose<f64>,
+) -> Result<f64, String> {
+    let r = e.mesh_distance(a, &Pose::identity(), b, pose).map_err(|x| x.to_string())?;
+    Ok(r.map_or(f64::INFINITY, |r| r.sqdist.sqrt()))
+}
+
 /// Near-contact placement `k` of the mesh report (MESH.md, "Near contact at random
 /// orientations") for the base seed `seed`: `b` rotated about a random axis by a random angle
 /// and moved along a random direction until its distance to `a` (both in [-1, 1]^3, `a` at
@@ -269,7 +283,6 @@ pub fn near_contact_pose(
     gap: f64,
 ) -> Result<Pose<f64>, String> {
     let e = tridist::Engine::auto();
-    let id = Pose::<f64>::identity();
     let mut rng = Rng::new(seed ^ 0x6e65_6172 ^ k);
     let (axis, angle, dir) = (rng.dir(), rng.range(0.0, std::f64::consts::TAU), rng.dir());
     let at = |t: f64| Pose::from_axis_angle(axis, angle, dir.map(|c| c * t));
@@ -277,8 +290,7 @@ pub fn near_contact_pose(
     let (mut lo, mut hi) = (0.0, 4.0);
     for _ in 0..48 {
         let mid = 0.5 * (lo + hi);
-        let d = e.mesh_distance(a, &id, b, &at(mid)).map_err(|x| x.to_string())?;
-        if d.map_or(f64::INFINITY, |r| r.sqdist.sqrt()) < gap {
+        if mesh_gap(&e, a, b, &at(mid))? < gap {
             lo = mid;
         } else {
             hi = mid;
