@@ -678,7 +678,7 @@ fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Resul
                         && r.precision == p
                         && r.threads == 1
                         && r.tolerance == "default"
-                        && r.outputs == "answer"
+                        && r.answer_only()
                 })
                 .map(|r| r.qps);
             let fits = err <= tol && scale <= max_s && tol >= min_d;

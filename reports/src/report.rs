@@ -185,7 +185,7 @@ fn throughput_one<T: Peer>(s: &Settings, wl: &Named, m: &mut Measured, prog: &mu
         precision: T::NAME.into(),
         threads,
         tolerance: tol.into(),
-        outputs: if points || imp == Lib::Fcl.name() { "points" } else { "answer" }.into(),
+        outputs: if points || imp == Lib::Fcl.name() { table::POINTS } else { table::ANSWER }.into(),
         qps: r.qps,
         counts: r.counts,
     };
@@ -361,7 +361,7 @@ fn qps_of(
                 && r.precision == p
                 && r.threads == threads
                 && r.tolerance == tol
-                && (peer || (r.outputs == "points") == points)
+                && (peer || r.answer_only() != points)
         })
         .map(|r| r.qps)
 }
@@ -685,7 +685,7 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
                 && r.implementation == bn
                 && r.threads == 1
                 && r.tolerance == "default"
-                && r.outputs == "answer"
+                && r.answer_only()
         }) {
             let c = &r.counts;
             let _ = writeln!(
@@ -716,7 +716,7 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
                         && r.precision == p
                         && r.threads == 1
                         && r.tolerance == name
-                        && r.outputs == "answer"
+                        && r.answer_only()
                 }) else {
                     continue;
                 };

@@ -52,7 +52,17 @@ pub struct TRow {
     pub counts: PathCounts,
 }
 
+/// The `outputs` value of a row that wrote the answer alone (squared distances or verdicts).
+pub const ANSWER: &str = "answer";
+/// The `outputs` value of a row that wrote closest points too.
+pub const POINTS: &str = "points";
+
 impl TRow {
+    /// Did the measurement write the answer alone (no closest points)?
+    pub fn answer_only(&self) -> bool {
+        self.outputs == ANSWER
+    }
+
     fn fields(&self) -> Vec<String> {
         let c = &self.counts;
         let mut v = vec![
@@ -119,7 +129,7 @@ pub fn read(path: &Path) -> Result<Vec<TRow>, String> {
         let qps: f64 = rec[7].parse().map_err(|_| {
             format!("{}:{line}: queries_per_second {:?} is not a number", path.display(), &rec[7])
         })?;
-        if rec[6] != *"answer" && rec[6] != *"points" {
+        if rec[6] != *ANSWER && rec[6] != *POINTS {
             return Err(format!(
                 "{}:{line}: outputs {:?} is neither answer nor points",
                 path.display(),
