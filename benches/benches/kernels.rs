@@ -2,7 +2,7 @@
 //! standard workloads (`protocol::standard`: random unit-cube pairs, nearby Armadillo
 //! triangles, and the paper's protocol: Armadillo vs Armadillo, CAD vs CAD, CAD vs Armadillo;
 //! four triangles sharing a vertex, or four random ones, against one), plus the threaded batch
-//! path, and the mesh queries along the mesh report's trajectory (`mesh/`). Inputs come from the shared generators with fixed seeds; every
+//! path, triangle distance without its quick stage (`<variant>-full`), and the mesh queries along the mesh report's trajectory (`mesh/`). Inputs come from the shared generators with fixed seeds; every
 //! benchmark first checks its results against the scalar AoS variant. The triangle-distance
 //! groups also time the peers on the same inputs in the same run: FCL's PQP `TriangleDistance`
 //! (when its headers were installed at build time) and parry3d (f32) / parry3d-f64
@@ -17,7 +17,7 @@ use tridist_scenes::eval::Variant;
 use tridist_scenes::mesh;
 use tridist_scenes::peer::{self, Peer};
 use tridist_scenes::protocol::{self, Grouping};
-use tridist_scenes::workload::{check, Workload};
+use tridist_scenes::workload::{check, check_engine, Workload};
 
 type Pairs = Vec<(tridist::Triangle<f64>, tridist::Triangle<f64>)>;
 
@@ -78,6 +78,18 @@ fn bench_precision<T: Peer>(c: &mut Criterion, name: &str, pairs: &Pairs) {
             });
         }
         if q == Query::TriTri {
+            // without the quick stage (`Engine::quick_stage(false)`), checked like the others
+            for v in Variant::ALL.into_iter().filter(|v| *v != Variant::Scalar) {
+                let Some(e) = Engine::new(v.isa()).ok().map(|e| e.quick_stage(false)) else { continue };
+                if let Some(Err(err)) = check_engine(&w, q, v, e) {
+                    panic!("{} {} {} without the quick stage: {err}", q.name(), v.name(), T::NAME);
+                }
+                let n = w.len(q);
+                let (mut out, mut flags) = (vec![T::ZERO; n], vec![Intersection::Invalid; n]);
+                g.bench_function(BenchmarkId::from_parameter(format!("{}-full", v.name())), |b| {
+                    b.iter(|| w.run(q, e, false, &mut out, &mut flags).expect("lengths match"))
+                });
+            }
             bench_peer(&mut g, &w, name == "random");
         }
         g.finish();

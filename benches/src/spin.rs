@@ -1,5 +1,6 @@
 //! Runs one query on one workload for a few seconds (for `perf record`):
-//! `cargo run --release -p tridist-benches --bin spin -- tri_tri random f32 avx2fma 5 [pairs [threads [sqdist|points]]]`,
+//! `cargo run --release -p tridist-benches --bin spin -- tri_tri random f32 avx2fma 5 [pairs [threads [sqdist|points [quick|full]]]]`
+//! (`full`: without the quick stage, `Engine::quick_stage(false)`),
 //! or a mesh query on the mesh report's scene (Armadillo fixed, fandisk at trajectory pose
 //! `k` of 12, or at near-contact placement `n<k>` of MESH.md, 0.001 apart):
 //! `spin mesh contacts|distance|intersect|build <k>|n<k> f32|f64 <threads> <secs>`.
@@ -7,7 +8,7 @@ use tridist::{Engine, Intersection, Isa, Query};
 use tridist_scenes::workload::Workload;
 use tridist_scenes::{families, Family};
 
-const USAGE: &str = "usage: spin <query> <family|arm_nearby> f32|f64 <variant|fcl> <secs> [pairs [threads [sqdist|points]]]
+const USAGE: &str = "usage: spin <query> <family|arm_nearby> f32|f64 <variant|fcl> <secs> [pairs [threads [sqdist|points [quick|full]]]]
        spin mesh contacts|distance|intersect|build <pose 0-11 | near placement n0-n11> f32|f64 <threads> <secs>";
 
 /// Bad arguments: the reason and the usage on stderr, exit status 2.
@@ -28,8 +29,8 @@ fn main() {
             _ => usage("the precision is f32 or f64"),
         };
     }
-    if !(5..=8).contains(&a.len()) {
-        usage("a batch query takes 5 to 8 arguments");
+    if !(5..=9).contains(&a.len()) {
+        usage("a batch query takes 5 to 9 arguments");
     }
     let q = Query::parse(&a[0]).unwrap_or_else(|| usage("unknown query"));
     let arm = || tridist_scenes::mesh::carried("armadillo.off").expect("armadillo");
@@ -58,6 +59,12 @@ fn main() {
     if points && q.is_verdict() {
         usage("a verdict query has no closest points");
     }
+    // optional: with the quick stage (the default) or straight to the full fast stage
+    let quick = match a.get(8).map(String::as_str) {
+        None | Some("quick") => true,
+        Some("full") => false,
+        Some(_) => usage("the stages are quick or full"),
+    };
     if a[2] != "f32" && a[2] != "f64" {
         usage("the precision is f32 or f64");
     }
@@ -68,7 +75,10 @@ fn main() {
         let fam = Family::parse(&a[1]).unwrap_or_else(|| usage("unknown family"));
         families::generate::<f64>(fam, 7, count).into_iter().map(|c| (c.a, c.b)).collect()
     };
-    let e = Engine::new(isa).unwrap_or_else(|_| usage("variant not available on this CPU")).threads(threads);
+    let e = Engine::new(isa)
+        .unwrap_or_else(|_| usage("variant not available on this CPU"))
+        .threads(threads)
+        .quick_stage(quick);
     let t = std::time::Instant::now();
     let mut n = 0usize;
     macro_rules! go {

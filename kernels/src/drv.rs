@@ -355,22 +355,30 @@ pub struct Job<'a, T> {
 #[inline(always)]
 pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
     let n = job.n;
+    // Without the quick stage (`Engine::quick_stage(false)`), triangle-triangle distance runs
+    // its full fast stage on every pair, loaded in place like stage 0: the same arithmetic per
+    // lane as on gathered pairs, so a pair's answer does not depend on its neighbours either way.
+    let direct = K::STAGES == 3 && !job.prm.quick;
     let mut start = 0;
     while start < n {
         let end = (start + CHUNK).min(n);
         let mut open = Pending::new();
         // (the answers of open pairs are kept only for the tight re-certification, which
         // follows the last stage before the accurate one)
-        pass::<L, K, 0>(kk, job, start, end, None, &mut open, K::RECERT && K::STAGES == 1);
+        if !direct {
+            pass::<L, K, 0>(kk, job, start, end, None, &mut open, K::RECERT && K::STAGES == 1);
+        }
         job.counts.pairs += (end - start) as u64;
         if K::NEXT == Some(Query::TriTri) {
             // within-margin and intersection: decided by their own cheap test
             job.counts.prefiltered += (end - start - open.len()) as u64;
         }
-        if K::STAGES == 3 && !open.is_empty() {
-            job.counts.refined += open.len() as u64;
+        if K::STAGES == 3 && (direct || !open.is_empty()) {
+            // one call site, so the full fast stage is inlined once per entry point
+            let ix = if direct { None } else { Some(open.as_slice()) };
+            job.counts.refined += ix.map_or(end - start, <[u32]>::len) as u64;
             let mut still = Pending::new();
-            pass::<L, K, 1>(kk, job, 0, 0, Some(open.as_slice()), &mut still, K::RECERT);
+            pass::<L, K, 1>(kk, job, start, end, ix, &mut still, K::RECERT);
             open = still;
         }
         if K::RECERT && !open.is_empty() {

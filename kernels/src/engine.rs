@@ -289,6 +289,8 @@ pub struct Engine {
     margin: f64,
     /// `None`: the defaults of the batch's precision.
     penalty: Option<PenaltyOptions<f64>>,
+    /// Triangle-triangle distance starts with its quick stage ([`Engine::quick_stage`]).
+    quick: bool,
 }
 
 /// The environment variable that pins [`Engine::auto`] to one variant (`scalar`, `sse41`,
@@ -307,6 +309,7 @@ impl Engine {
             exact: cfg!(feature = "exact"),
             margin: 0.0,
             penalty: None,
+            quick: true,
         }
     }
 
@@ -412,6 +415,43 @@ impl Engine {
         Engine { exact: on && cfg!(feature = "exact"), ..self }
     }
 
+    /// The same engine with (`true`, the default) or without the quick stage of
+    /// triangle-triangle distance (and of the queries that finish with it: within-margin,
+    /// intersection, mesh leaf batches).
+    ///
+    /// The quick stage tries one edge pair per triangle pair and answers the pair when that
+    /// candidate is certified as the closest pair; the others go on to the full fast stage
+    /// (all fifteen features and contact). On nearby triangles of a mesh it answers nearly
+    /// every pair for about a third of the full stage's cost. On arbitrary pairs (triangles
+    /// placed independently, many intersecting) it answers few, and those it leaves open pay
+    /// for both stages plus their gathering: for such batches, `quick_stage(false)` sends
+    /// every pair straight to the full fast stage. THROUGHPUT.md measures both settings on
+    /// both workloads.
+    ///
+    /// Either way every answer meets the same guarantee (the tolerance, the bound table,
+    /// [`Tolerance`]). Both settings give the same bits from run to run, in every lane
+    /// position and on any number of threads; between the two settings, a pair's answer can
+    /// differ within that guarantee (the two stages round differently).
+    ///
+    /// # Example
+    /// ```
+    /// use tridist::Engine;
+    /// let a = vec![[[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]; 100];
+    /// let b = vec![[[0.2f32, 0.2, -1.0], [0.3, 0.2, 1.0], [0.2, 0.3, 1.0]]; 100]; // piercing
+    /// let mut out = vec![1.0f32; 100];
+    /// let counts = Engine::auto().quick_stage(false).sqdist_triangle_triangle(&a, &b, &mut out).unwrap();
+    /// assert!(out.iter().all(|&d| d == 0.0));
+    /// assert_eq!(counts.refined, 100); // every pair went to the full fast stage
+    /// ```
+    pub fn quick_stage(self, on: bool) -> Engine {
+        Engine { quick: on, ..self }
+    }
+
+    /// Whether triangle-triangle distance starts with its quick stage ([`Engine::quick_stage`]).
+    pub fn uses_quick_stage(&self) -> bool {
+        self.quick
+    }
+
     /// The same engine with the margin of [`Query::Within`] for [`Engine::run`].
     ///
     /// # Errors
@@ -461,6 +501,7 @@ impl Engine {
             tol_abs: c(self.tol.absolute),
             tol_rel: c(self.tol.relative),
             penalty: penalty.params(),
+            quick: self.quick,
         }
     }
 

@@ -101,7 +101,8 @@ pub struct PathCounts {
     /// of the box test, intersection pairs neither separated nor pierced).
     pub delegated: u64,
     /// Triangle-triangle distance: pairs the quick stage (one edge pair) left open, answered
-    /// by the full fast stage (fifteen candidates and contact) in compacted vectors.
+    /// by the full fast stage (fifteen candidates and contact) in compacted vectors; without
+    /// the quick stage ([`crate::Engine::quick_stage`]), every pair, loaded in place.
     pub refined: u64,
     /// Pairs whose fast-stage certificate was wider than the tolerance (for triangle-triangle
     /// distance: the full fast stage's), re-certified with the tight

@@ -42,7 +42,8 @@ fn pairs<T: tridist::Real>(n: usize) -> Vec<(Triangle<T>, Triangle<T>)> {
 #[test]
 fn same_bits_in_every_lane_position_and_in_the_tail() {
     let ps = pairs::<f32>(40);
-    for e in engines() {
+    // with and without the quick stage: either path is independent of the neighbours
+    for e in engines().into_iter().flat_map(|e| [e, e.quick_stage(false)]) {
         // Reference: each pair alone (a batch of one goes through the padded tail path).
         let alone: Vec<(f32, [f32; 3], [f32; 3])> = ps
             .iter()
@@ -66,7 +67,7 @@ fn same_bits_in_every_lane_position_and_in_the_tail() {
                         cp[k].sqdist.to_bits(),
                         rd.to_bits(),
                         "{:?} len {len} start {start} lane {k}",
-                        e.isa()
+                        e
                     );
                     assert_eq!(cp[k].p, rp);
                     assert_eq!(cp[k].q, rq);
@@ -330,7 +331,7 @@ fn threaded_batches_give_the_same_bits() {
     let a: Vec<_> = ps.iter().map(|x| x.0).collect();
     let b: Vec<_> = ps.iter().map(|x| x.1).collect();
     let (ba, bb) = (TriangleBatch::from_slice(&a), TriangleBatch::from_slice(&b));
-    for e in engines() {
+    for e in engines().into_iter().flat_map(|e| [e, e.quick_stage(false)]) {
         let (mut one, mut two) =
             (vec![ClosestPoints::default(); ps.len()], vec![ClosestPoints::default(); ps.len()]);
         let c1 = e.closest_points_triangle_triangle(&ba, &bb, &mut one).unwrap();
@@ -543,4 +544,60 @@ fn mint_points_are_points() {
     let p = |x: f32, y: f32, z: f32| mint::Point3 { x, y, z };
     let a = [p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.0)];
     assert_eq!(tridist::sqdist_point_triangle(&p(0.25, 0.25, 3.0), &a), 9.0);
+}
+
+/// `Engine::quick_stage(false)` sends every triangle pair to the full fast stage: a pair the
+/// quick stage leaves open gets the same bits either way (the same stage and escalation), and
+/// a pair it answers gets an answer whose certified interval meets the quick one's (both hold
+/// the exact distance). Pairs one at a time, so the counts say which path each took.
+#[test]
+fn without_the_quick_stage_every_pair_takes_the_full_stage() {
+    let mut ps = pairs::<f32>(300);
+    // nearby pairs of a fine mesh, which the quick stage answers: a sheet of small triangles
+    let mut r = Rng(9);
+    for _ in 0..100 {
+        let (x, y) = (r.f(), r.f());
+        let h = 0.01;
+        let a = [[x, y, 0.0], [x + h, y, 0.0], [x, y + h, 0.0]];
+        let b =
+            [[x + 2.5 * h, y, 0.3 * h], [x + 3.5 * h, y + 0.2 * h, 0.2 * h], [x + 2.5 * h, y + h, 0.1 * h]];
+        ps.push((a.map(|p| p.map(|c| c as f32)), b.map(|p| p.map(|c| c as f32))));
+    }
+    for e in engines() {
+        let off = e.quick_stage(false);
+        assert!(e.uses_quick_stage() && !off.uses_quick_stage());
+        let (mut quick_apart, mut both_refined) = (0, 0);
+        for (a, b) in &ps {
+            let mut got =
+                [(ClosestPoints::default(), Interval::default(), tridist::PathCounts::default()); 2];
+            for (eng, g) in [e, off].into_iter().zip(&mut got) {
+                let (mut cp, mut iv) = ([ClosestPoints::default()], [Interval::default()]);
+                let out = Outputs::new().closest_points(&mut cp).intervals(&mut iv);
+                let c = eng.run(Query::TriTri, &[*a][..], &[*b][..], out).unwrap();
+                *g = (cp[0], iv[0], c);
+            }
+            let [(c1, i1, k1), (c2, i2, k2)] = got;
+            assert_eq!((k2.pairs, k2.refined), (1, 1), "{:?}: {a:?} {b:?} not sent to the full stage", off);
+            if k1.refined == 1 {
+                both_refined += 1;
+                assert_eq!(
+                    (c1, i1, k1),
+                    (c2, i2, k2),
+                    "{:?}: the same path must give the same bits",
+                    e.isa()
+                );
+            } else {
+                quick_apart += usize::from(c1.sqdist > 0.0);
+                assert!(
+                    i1.lo <= i2.hi && i2.lo <= i1.hi,
+                    "{:?}: disjoint certified intervals {i1:?} {i2:?} for {a:?} {b:?}",
+                    e.isa()
+                );
+            }
+        }
+        assert!(
+            quick_apart >= 100 && both_refined >= 100,
+            "{quick_apart} answered apart by the quick stage, {both_refined} refined"
+        );
+    }
 }

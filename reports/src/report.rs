@@ -173,11 +173,12 @@ fn throughput_one<T: Peer>(s: &Settings, wl: &Named, m: &mut Measured, prog: &mu
     let w = Workload::<T>::new(&wl.pairs, 0.02);
     // (FCL's triangle distance always computes closest points; the other peer's and our own
     // rows write the answer alone unless `points` says so)
+    // (`full`: without the quick stage; peers have no stages)
     let row_out = |q: Query,
                    imp: &str,
                    threads: usize,
                    tol: &str,
-                   points: bool,
+                   (points, full): (bool, bool),
                    r: tridist_scenes::workload::Measured| TRow {
         workload: wl.id.into(),
         query: q.name().into(),
@@ -186,10 +187,19 @@ fn throughput_one<T: Peer>(s: &Settings, wl: &Named, m: &mut Measured, prog: &mu
         threads,
         tolerance: tol.into(),
         outputs: if points || imp == Lib::Fcl.name() { table::POINTS } else { table::ANSWER }.into(),
+        stages: if is_peer(imp) {
+            "-"
+        } else if full {
+            table::FULL
+        } else {
+            table::QUICK
+        }
+        .into(),
         qps: r.qps,
         counts: r.counts,
     };
-    let row = |q: Query, imp: &str, threads: usize, tol: &str, r| row_out(q, imp, threads, tol, false, r);
+    let row =
+        |q: Query, imp: &str, threads: usize, tol: &str, r| row_out(q, imp, threads, tol, (false, false), r);
     for q in queries_of(wl.id) {
         for v in Variant::ALL {
             match measure(&w, q, v, None, s.budget) {
@@ -232,10 +242,22 @@ fn throughput_one<T: Peer>(s: &Settings, wl: &Named, m: &mut Measured, prog: &mu
     for x in Variant::ALL.into_iter().filter(|x| shown.contains(&x.name())) {
         match measure_points(&w, Query::TriTri, x, s.budget) {
             None => {}
-            Some(Ok(r)) => m.thr.push(row_out(Query::TriTri, x.name(), 1, "default", true, r)),
+            Some(Ok(r)) => m.thr.push(row_out(Query::TriTri, x.name(), 1, "default", (true, false), r)),
             Some(Err(e)) => {
                 m.failed.push(format!("{} tri_tri {} {} with points: {e}", wl.id, x.name(), T::NAME))
             }
+        }
+        // and without the quick stage (`Engine::quick_stage(false)`), the answer alone
+        let full = Engine::new(x.isa()).ok().map(|e| e.quick_stage(false));
+        match full.and_then(|e| measure(&w, Query::TriTri, x, Some(e), s.budget)) {
+            None => {}
+            Some(Ok(r)) => m.thr.push(row_out(Query::TriTri, x.name(), 1, "default", (false, true), r)),
+            Some(Err(e)) => m.failed.push(format!(
+                "{} tri_tri {} {} without the quick stage: {e}",
+                wl.id,
+                x.name(),
+                T::NAME
+            )),
         }
     }
     let (a, b) = w.triangles();
@@ -362,6 +384,23 @@ fn qps_of(
                 && r.threads == threads
                 && r.tolerance == tol
                 && (peer || r.answer_only() != points)
+                && !r.full_stages()
+        })
+        .map(|r| r.qps)
+}
+
+/// One thread, default tolerance, the answer alone, without the quick stage.
+fn q1_full(t: &[TRow], wl: &str, imp: &str, p: &str) -> Option<f64> {
+    t.iter()
+        .find(|r| {
+            r.workload == wl
+                && r.query == Query::TriTri.name()
+                && r.implementation == imp
+                && r.precision == p
+                && r.threads == 1
+                && r.tolerance == "default"
+                && r.answer_only()
+                && r.full_stages()
         })
         .map(|r| r.qps)
 }
@@ -678,6 +717,25 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
             let _ = writeln!(t, "| {title} | {p} |{both} {} |{r}", mq(fcl));
         }
     }
+    let own_full: String =
+        shown.iter().map(|v| format!(" tridist {v} | {v} without the quick stage | speed-up |")).collect();
+    let full_fcl: String = shown.iter().map(|v| format!(" {v} without / FCL |")).collect();
+    let _ = writeln!(t, "\n## Without the quick stage: arbitrary pairs\n\nTriangle distance starts with a quick stage (one edge pair per triangle pair) that answers nearly every pair of nearby mesh triangles; the pairs it leaves open are gathered for the full fast stage (fifteen candidates and contact) and pay for both. `Engine::quick_stage(false)` sends every pair straight to the full fast stage, for batches of arbitrary pairs (\"refined\" in the table below is the share the quick stage leaves open). Both settings meet the same bounds (the differential suite runs both). Squared distances alone, million pairs per second, one thread; the speed-up is without over with.\n\n| workload | prec |{own_full} FCL |{full_fcl}\n|---|---|{}---|{}", "---|---|---|".repeat(shown.len()), "---|".repeat(shown.len()));
+    for &(id, title) in m.workloads.iter().filter(|w| w.0 == "random" || w.0 == "arm_nearby") {
+        for p in ["f32", "f64"] {
+            let fcl = q1(thr, id, Query::TriTri, "fcl", p);
+            let both: String = shown
+                .iter()
+                .map(|v| {
+                    let (with, without) = (q1(thr, id, Query::TriTri, v, p), q1_full(thr, id, v, p));
+                    format!(" {} | {} | {} |", mq(with), mq(without), ratio(without, with))
+                })
+                .collect();
+            let r: String =
+                shown.iter().map(|v| format!(" **{}** |", ratio(q1_full(thr, id, v, p), fcl))).collect();
+            let _ = writeln!(t, "| {title} | {p} |{both} {} |{r}", mq(fcl));
+        }
+    }
     let _ = writeln!(t, "\n## Where the pairs go ({bn}, default tolerance)\n\nThe certified pipeline: a fast stage answers every pair with an interval (for triangle-triangle distance a quick stage on one edge pair per triangle pair, then, for the pairs it leaves open, gathered into full vectors, the full fast stage on all fifteen candidates: refined); pairs whose interval is wider than the tolerance are re-certified with the tight certificate, then recomputed by the accurate stage in compacted full vectors, then (f32) in f64 from the exactly widened input. Intersection and within-margin first run a cheap test and hand the undecided pairs on (delegated). Percent of the pairs of one pass.\n\n| workload | query | prec | pairs | prefiltered | delegated | refined | recertified | compacted | to f64 | exact | uncertified |\n|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &(id, title) in &m.workloads {
         for r in thr.iter().filter(|r| {
@@ -686,6 +744,7 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
                 && r.threads == 1
                 && r.tolerance == "default"
                 && r.answer_only()
+                && !r.full_stages()
         }) {
             let c = &r.counts;
             let _ = writeln!(
@@ -717,6 +776,7 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
                         && r.threads == 1
                         && r.tolerance == name
                         && r.answer_only()
+                        && !r.full_stages()
                 }) else {
                     continue;
                 };
@@ -986,13 +1046,15 @@ fn update_readme(path: &Path, m: &Measured, mesh: &str) -> Result<(), String> {
             .iter()
             .map(|v| {
                 format!(
-                    "{v} f32 {} M/s, f64 {} M/s: **{} (f32)** and **{} (f64)** FCL's speed, {} and {} with closest points (as FCL computes them)",
+                    "{v} f32 {} M/s, f64 {} M/s: **{} (f32)** and **{} (f64)** FCL's speed, {} and {} with closest points (as FCL computes them), {} and {} without the quick stage (`Engine::quick_stage(false)`)",
                     mq(q(wl, v, "f32")),
                     mq(q(wl, v, "f64")),
                     ratio(q(wl, v, "f32"), fcl),
                     ratio(q(wl, v, "f64"), fcl),
                     ratio(q1_points(&m.thr, wl, v, "f32"), fcl),
-                    ratio(q1_points(&m.thr, wl, v, "f64"), fcl)
+                    ratio(q1_points(&m.thr, wl, v, "f64"), fcl),
+                    ratio(q1_full(&m.thr, wl, v, "f32"), fcl),
+                    ratio(q1_full(&m.thr, wl, v, "f64"), fcl)
                 )
             })
             .collect();

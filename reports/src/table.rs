@@ -7,7 +7,7 @@ use std::path::Path;
 use tridist::PathCounts;
 
 /// The CSV header, in order.
-pub const HEADER: [&str; 17] = [
+pub const HEADER: [&str; 18] = [
     "workload",
     "query",
     "implementation",
@@ -15,6 +15,7 @@ pub const HEADER: [&str; 17] = [
     "threads",
     "tolerance",
     "outputs",
+    "stages",
     "queries_per_second",
     "pairs",
     "prefiltered",
@@ -46,6 +47,9 @@ pub struct TRow {
     /// What each query wrote: `answer` (squared distances only, or verdicts), or `points`
     /// (squared distances and closest points, as FCL's `TriangleDistance` always computes).
     pub outputs: String,
+    /// Triangle distance's stages: `quick` (the default engine: the quick stage first), `full`
+    /// (`Engine::quick_stage(false)`: every pair straight to the full fast stage); `-` for peers.
+    pub stages: String,
     /// Queries per second (NaN when the result check failed).
     pub qps: f64,
     /// Path counts of one pass (zero for peers).
@@ -57,10 +61,20 @@ pub const ANSWER: &str = "answer";
 /// The `outputs` value of a row that wrote closest points too.
 pub const POINTS: &str = "points";
 
+/// The `stages` value of a row measured on the default engine.
+pub const QUICK: &str = "quick";
+/// The `stages` value of a row measured without the quick stage.
+pub const FULL: &str = "full";
+
 impl TRow {
     /// Did the measurement write the answer alone (no closest points)?
     pub fn answer_only(&self) -> bool {
         self.outputs == ANSWER
+    }
+
+    /// Was it measured without the quick stage (`Engine::quick_stage(false)`)?
+    pub fn full_stages(&self) -> bool {
+        self.stages == FULL
     }
 
     fn fields(&self) -> Vec<String> {
@@ -73,6 +87,7 @@ impl TRow {
             self.threads.to_string(),
             self.tolerance.clone(),
             self.outputs.clone(),
+            self.stages.clone(),
             format!("{:.0}", self.qps),
         ];
         v.extend(
@@ -126,9 +141,16 @@ pub fn read(path: &Path) -> Result<Vec<TRow>, String> {
                 .parse()
                 .map_err(|_| format!("{}:{line}: {} {:?} is not a count", path.display(), HEADER[k], &rec[k]))
         };
-        let qps: f64 = rec[7].parse().map_err(|_| {
-            format!("{}:{line}: queries_per_second {:?} is not a number", path.display(), &rec[7])
+        let qps: f64 = rec[8].parse().map_err(|_| {
+            format!("{}:{line}: queries_per_second {:?} is not a number", path.display(), &rec[8])
         })?;
+        if ![QUICK, FULL, "-"].contains(&&rec[7]) {
+            return Err(format!(
+                "{}:{line}: stages {:?} is neither quick, full nor -",
+                path.display(),
+                &rec[7]
+            ));
+        }
         if rec[6] != *ANSWER && rec[6] != *POINTS {
             return Err(format!(
                 "{}:{line}: outputs {:?} is neither answer nor points",
@@ -144,17 +166,18 @@ pub fn read(path: &Path) -> Result<Vec<TRow>, String> {
             threads: num(4)? as usize,
             tolerance: rec[5].to_string(),
             outputs: rec[6].to_string(),
+            stages: rec[7].to_string(),
             qps,
             counts: PathCounts {
-                pairs: num(8)?,
-                prefiltered: num(9)?,
-                delegated: num(10)?,
-                refined: num(11)?,
-                recertified: num(12)?,
-                compacted: num(13)?,
-                widened: num(14)?,
-                exact: num(15)?,
-                uncertified: num(16)?,
+                pairs: num(9)?,
+                prefiltered: num(10)?,
+                delegated: num(11)?,
+                refined: num(12)?,
+                recertified: num(13)?,
+                compacted: num(14)?,
+                widened: num(15)?,
+                exact: num(16)?,
+                uncertified: num(17)?,
             },
         });
     }
@@ -178,6 +201,7 @@ mod tests {
             threads: 2,
             tolerance: "default".into(),
             outputs: "points".into(),
+            stages: "full".into(),
             qps: 12345.0,
             counts: PathCounts { pairs: 10, refined: 5, compacted: 3, ..PathCounts::default() },
         }];
@@ -187,11 +211,15 @@ mod tests {
         assert!(read(&p).unwrap_err().contains("header"));
         let mut bad = std::fs::read_to_string(dir.join("t.csv")).unwrap_or_default();
         bad.clear();
-        bad.push_str(&HEADER.join(","));
-        bad.push_str("\nw,q,i,f32,one,default,answer,1,1,0,0,0,0,0,0,0,0\n");
-        std::fs::write(&p, bad).unwrap();
+        let head = HEADER.join(",");
+        bad.push_str(&head);
+        bad.push_str("\nw,q,i,f32,one,default,answer,quick,1,1,0,0,0,0,0,0,0,0\n");
+        std::fs::write(&p, &bad).unwrap();
         let e = read(&p).unwrap_err();
         assert!(e.contains(":2: threads"), "{e}");
+        std::fs::write(&p, format!("{head}\nw,q,i,f32,1,default,answer,slow,1,1,0,0,0,0,0,0,0,0\n")).unwrap();
+        let e = read(&p).unwrap_err();
+        assert!(e.contains(":2: stages \"slow\""), "{e}");
     }
 
     /// The committed file parses with the csv crate, every row has every field, and its
@@ -213,6 +241,14 @@ mod tests {
         assert!(
             rows.iter().any(|r| r.outputs == "points" && r.query == "tri_tri" && r.tolerance == "default"),
             "triangle distance with closest points never measured"
+        );
+        assert!(
+            rows.iter().all(|r| ["quick", "full", "-"].contains(&r.stages.as_str())),
+            "an unknown stages value"
+        );
+        assert!(
+            rows.iter().any(|r| r.full_stages() && r.query == "tri_tri" && r.workload == "random"),
+            "triangle distance without the quick stage never measured"
         );
     }
 }

@@ -216,15 +216,16 @@ fn bench_times_every_kernel_and_a_peer() {
 fn advise_reads_the_csv_and_picks_a_variant() {
     let dir = tmp("advise");
     let csv = dir.join("t.csv");
-    let head = "workload,query,implementation,precision,threads,tolerance,outputs,queries_per_second,pairs,prefiltered,delegated,refined,recertified,compacted,widened,exact,uncertified\n";
-    // (a row with closest points first: advise reads the answer-only figure)
-    std::fs::write(&csv, format!("{head}random,tri_tri,scalar,f64,1,default,points,999,1,0,0,0,0,0,0,0,0\nrandom,tri_tri,scalar,f64,1,default,answer,100,1,0,0,0,0,0,0,0,0\nrandom,tri_tri,scalar,f32,1,default,answer,200,1,0,0,0,0,0,0,0,0\n")).unwrap();
+    let head = "workload,query,implementation,precision,threads,tolerance,outputs,stages,queries_per_second,pairs,prefiltered,delegated,refined,recertified,compacted,widened,exact,uncertified\n";
+    // (rows with closest points and without the quick stage first: advise reads the default
+    // engine's answer-only figure)
+    std::fs::write(&csv, format!("{head}random,tri_tri,scalar,f64,1,default,points,quick,999,1,0,0,0,0,0,0,0,0\nrandom,tri_tri,scalar,f64,1,default,answer,full,998,1,0,0,1,0,0,0,0,0\nrandom,tri_tri,scalar,f64,1,default,answer,quick,100,1,0,0,0,0,0,0,0,0\nrandom,tri_tri,scalar,f32,1,default,answer,quick,200,1,0,0,0,0,0,0,0,0\n")).unwrap();
     // f32: 8 * 2^-24 * 1e3 = 4.8e-4 > 1e-6; f64 meets it
     let (code, out, _) =
         tridist(&["advise", "--scale", "1e3", "--tolerance", "1e-6", "--csv", csv.to_str().unwrap()], "");
     assert_eq!(code, 0, "{out}");
     assert!(out.contains("advice: scalar f64"), "{out}");
-    assert!(out.contains("; 100 queries/s") && !out.contains("999"), "{out}");
+    assert!(out.contains("; 100 queries/s") && !out.contains("999") && !out.contains("998"), "{out}");
     let (code, out, _) =
         tridist(&["advise", "--scale", "1e3", "--tolerance", "1e-15", "--csv", csv.to_str().unwrap()], "");
     assert_eq!(code, 1, "{out}");
@@ -367,14 +368,22 @@ fn a_small_report_writes_parseable_files() {
     for c in &pts {
         assert!(c[3..5].iter().all(|x| x.parse::<f64>().unwrap() > 0.0), "{c:?}");
     }
+    // and without the quick stage: the same rows, each figure positive and its speed-up a ratio
+    let full = section_rows(&thr, "## Without the quick stage");
+    assert_eq!(full.len(), 4, "{thr}");
+    for c in &full {
+        assert!(c[3..5].iter().all(|x| x.parse::<f64>().unwrap() > 0.0), "{c:?}");
+        assert!(c[5].ends_with('x') && c[5].trim_end_matches('x').parse::<f64>().unwrap() > 0.0, "{c:?}");
+    }
     let mut r = csv::Reader::from_path(dir.join("throughput.csv")).unwrap();
-    assert_eq!(r.headers().unwrap().len(), 17);
+    assert_eq!(r.headers().unwrap().len(), 18);
     let rows: Vec<csv::StringRecord> = r.records().map(|x| x.unwrap()).collect();
     for q in tridist::Query::ALL {
         assert!(rows.iter().any(|x| &x[1] == q.name()), "{}", q.name());
     }
-    assert!(rows.iter().all(|x| x.len() == 17 && x[7].parse::<f64>().unwrap() > 0.0));
+    assert!(rows.iter().all(|x| x.len() == 18 && x[8].parse::<f64>().unwrap() > 0.0));
     assert!(rows.iter().any(|x| &x[1] == "tri_tri" && &x[6] == "points"), "no row with closest points");
+    assert!(rows.iter().any(|x| &x[1] == "tri_tri" && &x[7] == "full"), "no row without the quick stage");
     for f in ["tradeoff.svg", "magnitude.svg", "offset.svg", "penalty.svg"] {
         let t = std::fs::read_to_string(dir.join(f)).unwrap();
         assert!(t.starts_with("<svg") && t.trim_end().ends_with("</svg>"), "{f}");

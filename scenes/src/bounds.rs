@@ -168,6 +168,8 @@ pub fn meets(s: &crate::eval::Stats, b: &Bound) -> bool {
 /// adversarial input such as fuzzing finds and regression cases: the loosest row over the
 /// families, [`bound_any_family`]); returns a reproducible description of every violation
 /// (empty when all variants meet their bounds). Within-margin uses [`crate::eval::margins`].
+/// Triangle distance runs twice per variant, with and without its quick stage
+/// (`Engine::quick_stage`).
 pub fn violations<T: Float>(
     query: Query,
     family: Option<Family>,
@@ -176,8 +178,15 @@ pub fn violations<T: Float>(
 ) -> Vec<String> {
     let ms = crate::eval::margins(cases, truth);
     let mut out = Vec::new();
-    for v in Variant::ALL {
-        let Ok(o) = crate::eval::run(query, v, cases, Some(&ms)) else { continue };
+    // triangle distance also without its quick stage: the other path to the same bounds
+    let settings: &[bool] = if query == Query::TriTri { &[true, false] } else { &[true] };
+    for (v, &quick) in Variant::ALL.iter().flat_map(|v| settings.iter().map(move |q| (*v, q))) {
+        let Ok(o) = v
+            .engine()
+            .and_then(|e| crate::eval::run_with(e.quick_stage(quick), query, v, cases, Some(&ms)))
+        else {
+            continue;
+        };
         let b = match family {
             Some(f) => bound(query, v, T::NAME, f),
             None => bound_any_family(query, v, T::NAME),
@@ -186,9 +195,10 @@ pub fn violations<T: Float>(
         if !meets(&st, &b) {
             let w = st.worst.unwrap_or(0);
             out.push(format!(
-                "{} {} {} {}: {st:?} exceeds {b:?}\n{}",
+                "{} {}{} {} {}: {st:?} exceeds {b:?}\n{}",
                 query.name(),
                 v.name(),
+                if quick { "" } else { " without the quick stage" },
                 T::NAME,
                 family.map_or("any family", Family::name),
                 crate::eval::describe(query, &cases[w], &truth[w], &o, w, &js[w])

@@ -675,6 +675,19 @@ pub fn sweep_family<T: Float>(
     family: crate::Family,
     seed: u64,
     n: usize,
+    on_worst: impl FnMut(&Row, String),
+) -> Vec<Row> {
+    sweep_family_with::<T>(query, family, seed, n, |e| e, on_worst)
+}
+
+/// [`sweep_family`] with each variant's engine set up by `setup` (for example
+/// `|e| e.quick_stage(false)`), judged against the same bound table.
+pub fn sweep_family_with<T: Float>(
+    query: Query,
+    family: crate::Family,
+    seed: u64,
+    n: usize,
+    setup: impl Fn(Engine) -> Engine,
     mut on_worst: impl FnMut(&Row, String),
 ) -> Vec<Row> {
     let cases = families::generate::<T>(family, seed, n);
@@ -682,7 +695,9 @@ pub fn sweep_family<T: Float>(
     let ms = margins(&cases, &tr);
     let mut rows = Vec::new();
     for v in Variant::ALL {
-        let Ok(out) = run(query, v, &cases, Some(&ms)) else { continue };
+        let Ok(out) = v.engine().and_then(|e| run_with(setup(e), query, v, &cases, Some(&ms))) else {
+            continue;
+        };
         let allow = crate::bounds::bound(query, v, T::NAME, family).allow;
         let (stats, js) = summarise(query, &cases, &tr, &out, allow, Some(&ms));
         let row = Row { query, variant: v, precision: T::NAME, family, stats };

@@ -144,7 +144,17 @@ pub fn fingerprint<T: Float>(q: Query, out: &[T], flags: &[Intersection]) -> (us
 /// Runs `q` on `variant` once and compares its results with the scalar AoS variant: `None` when
 /// the variant is unavailable, `Err` when they disagree beyond rounding.
 pub fn check<T: Float>(w: &Workload<T>, q: Query, variant: Variant) -> Option<Result<(), String>> {
-    let e = Engine::new(variant.isa()).ok()?;
+    check_engine(w, q, variant, Engine::new(variant.isa()).ok()?)
+}
+
+/// [`check`] of the engine `e` of `variant` as the caller set it up (threads, tolerance,
+/// stages).
+pub fn check_engine<T: Float>(
+    w: &Workload<T>,
+    q: Query,
+    variant: Variant,
+    e: Engine,
+) -> Option<Result<(), String>> {
     let n = w.len(q);
     let (mut out, mut flags) = (vec![T::ZERO; n], vec![Intersection::Invalid; n]);
     let (mut ref_out, mut ref_flags) = (vec![T::ZERO; n], vec![Intersection::Invalid; n]);
@@ -226,9 +236,10 @@ pub struct Measured {
     pub counts: PathCounts,
 }
 
-/// Measures queries/s of `q` on `variant` after [`check`]: `None` when the variant is
-/// unavailable, `Err` when the check fails. `engine` is the variant's engine as the caller
-/// configured it (threads, tolerance); `None` means [`Engine::new`] of the variant.
+/// Measures queries/s of `q` on `variant` after [`check_engine`] of the engine timed: `None`
+/// when the variant is unavailable, `Err` when the check fails. `engine` is the variant's
+/// engine as the caller configured it (threads, tolerance, stages); `None` means
+/// [`Engine::new`] of the variant.
 pub fn measure<T: Float>(
     w: &Workload<T>,
     q: Query,
@@ -236,13 +247,13 @@ pub fn measure<T: Float>(
     engine: Option<Engine>,
     budget: Duration,
 ) -> Option<Result<Measured, String>> {
-    if let Err(e) = check(w, q, variant)? {
-        return Some(Err(e));
-    }
     let e = match engine {
         Some(e) => e,
         None => Engine::new(variant.isa()).ok()?,
     };
+    if let Err(e) = check_engine(w, q, variant, e)? {
+        return Some(Err(e));
+    }
     let n = w.len(q);
     let (mut out, mut flags) = (vec![T::ZERO; n], vec![Intersection::Invalid; n]);
     let aos = variant == Variant::Scalar;

@@ -187,7 +187,44 @@ pub(crate) fn tri_tri_fast<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut<
         best.c = L::select(hit, cc, best.c);
         best.code = L::select(hit, code, best.code);
     }
-    certified(s, t, &e, &f, (na, nb), &best, (inn_a, inn_b), (thin_a, thin_b))
+    let out = certified(s, t, &e, &f, (na, nb), &best, (inn_a, inn_b), (thin_a, thin_b));
+    at_shared_vertex(s, t, out)
+}
+
+/// A vertex the triangles share answered exactly: distance 0 at that vertex (the first of the
+/// nine vertex pairs that match, in the order of `s`'s vertices), as the quick stage answers
+/// a vertex shared by its front edges. The contact candidate answers such pairs 0 too, but
+/// with a crossing point and its projection on the other plane, which came 1.4 `u S` apart
+/// on mesh neighbours sharing an edge (f64, the unfused variants; found by the differential
+/// suite without the quick stage, which sends those pairs here). The interval stays the
+/// certified one (it holds 0), with `lo` 0.
+#[inline(always)]
+fn at_shared_vertex<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], mut o: FastOut<L>) -> FastOut<L> {
+    let k = Cx::of(o.lo);
+    // screened by one coordinate, so that pairs with no common vertex (nearly all that get
+    // here) pay nine compares
+    let mut maybe = k.no();
+    for x in s {
+        for y in t {
+            maybe = maybe.or(x.x.eq(y.x));
+        }
+    }
+    if !maybe.any() {
+        return o;
+    }
+    // (no closures here: they compile without the entry point's target features)
+    let mut at = [k.no(); 3];
+    for (a, x) in at.iter_mut().zip(s) {
+        *a = same(*x, t[0]).or(same(*x, t[1])).or(same(*x, t[2]));
+    }
+    let shared = at[0].or(at[1]).or(at[2]);
+    let x = V3::select(at[0], s[0], V3::select(at[1], s[1], s[2]));
+    o.r.d = L::select(shared, k.zero(), o.r.d);
+    o.r.p = V3::select(shared, x, o.r.p);
+    o.r.q = V3::select(shared, x, o.r.q);
+    o.lo = L::select(shared, k.zero(), o.lo);
+    o.sharp = o.sharp.or(shared);
+    o
 }
 
 /// A vertex `x` of `t` over the face of `s` (`s[0] = 0`): its squared distance to the point

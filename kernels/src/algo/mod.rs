@@ -76,6 +76,9 @@ pub(crate) struct Params<S> {
     pub tol_rel: S,
     /// Penalty method options (already validated).
     pub penalty: PenaltyParams<S>,
+    /// Triangle-triangle distance runs its quick stage first ([`crate::Engine::quick_stage`]);
+    /// off, every pair goes straight to the full fast stage.
+    pub quick: bool,
 }
 
 impl<S: Real> Params<S> {
@@ -95,6 +98,7 @@ impl<S: Real> Params<S> {
                 max_iter: p.max_iter,
                 start: p.start.map(c),
             },
+            quick: self.quick,
         }
     }
 }
