@@ -656,6 +656,49 @@ fn accuracy_md(s: &Settings, seed: u64, m: &Measured) -> String {
     a
 }
 
+/// A section of THROUGHPUT.md that sets another figure of tridist's triangle distance (`alt`:
+/// one thread, by workload, variant and precision; named `names.0` in its column and
+/// `names.1` in its ratio to FCL) beside the default one, for each shown variant, on the two
+/// workloads FCL runs: the default, the other figure, their ratio when `speedup`, and the other
+/// figure over FCL's.
+#[allow(clippy::type_complexity)]
+fn fcl_section(
+    t: &mut String,
+    m: &Measured,
+    shown: &[&str],
+    intro: &str,
+    names: (&str, &str),
+    alt: &dyn Fn(&str, &str, &str) -> Option<f64>,
+    speedup: bool,
+) {
+    let thr = &m.thr;
+    let extra = if speedup { " speed-up |" } else { "" };
+    let own: String = shown.iter().map(|v| format!(" tridist {v} | {v} {} |{extra}", names.0)).collect();
+    let vs_fcl: String = shown.iter().map(|v| format!(" {v} {} / FCL |", names.1)).collect();
+    let per = if speedup { "---|---|---|" } else { "---|---|" };
+    let _ = writeln!(
+        t,
+        "{intro}\n\n| workload | prec |{own} FCL |{vs_fcl}\n|---|---|{}---|{}",
+        per.repeat(shown.len()),
+        "---|".repeat(shown.len())
+    );
+    for &(id, title) in m.workloads.iter().filter(|w| w.0 == "random" || w.0 == "arm_nearby") {
+        for p in ["f32", "f64"] {
+            let fcl = q1(thr, id, Query::TriTri, "fcl", p);
+            let both: String = shown
+                .iter()
+                .map(|v| {
+                    let (with, other) = (q1(thr, id, Query::TriTri, v, p), alt(id, v, p));
+                    let up = if speedup { format!(" {} |", ratio(other, with)) } else { String::new() };
+                    format!(" {} | {} |{up}", mq(with), mq(other))
+                })
+                .collect();
+            let r: String = shown.iter().map(|v| format!(" **{}** |", ratio(alt(id, v, p), fcl))).collect();
+            let _ = writeln!(t, "| {title} | {p} |{both} {} |{r}", mq(fcl));
+        }
+    }
+}
+
 fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
     let thr = &m.thr;
     let b = best();
@@ -700,42 +743,24 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
     for lib in Lib::ALL.iter().filter(|l| !l.available()) {
         let _ = writeln!(t, "- {} not measured: {}", lib.name(), lib.missing_reason());
     }
-    let own_pts: String = shown.iter().map(|v| format!(" tridist {v} | {v} with points |")).collect();
-    let pts_fcl: String = shown.iter().map(|v| format!(" {v} with points / FCL |")).collect();
-    let _ = writeln!(t, "\n## With closest points: like for like with FCL\n\nFCL's `TriangleDistance` always computes the closest points. The table above times tridist writing squared distances alone, the cheapest output (what a caller that asks only for distances gets). Here tridist also writes the closest points (`Outputs::closest_points`), the output FCL's figure includes; the squared distances of that pass are first checked, bit for bit, against the pass without points. Million pairs per second, one thread.\n\n| workload | prec |{own_pts} FCL |{pts_fcl}\n|---|---|{}---|{}", "---|---|".repeat(shown.len()), "---|".repeat(shown.len()));
-    for &(id, title) in m.workloads.iter().filter(|w| w.0 == "random" || w.0 == "arm_nearby") {
-        for p in ["f32", "f64"] {
-            let fcl = q1(thr, id, Query::TriTri, "fcl", p);
-            let both: String = shown
-                .iter()
-                .map(|v| {
-                    format!(" {} | {} |", mq(q1(thr, id, Query::TriTri, v, p)), mq(q1_points(thr, id, v, p)))
-                })
-                .collect();
-            let r: String =
-                shown.iter().map(|v| format!(" **{}** |", ratio(q1_points(thr, id, v, p), fcl))).collect();
-            let _ = writeln!(t, "| {title} | {p} |{both} {} |{r}", mq(fcl));
-        }
-    }
-    let own_full: String =
-        shown.iter().map(|v| format!(" tridist {v} | {v} without the quick stage | speed-up |")).collect();
-    let full_fcl: String = shown.iter().map(|v| format!(" {v} without / FCL |")).collect();
-    let _ = writeln!(t, "\n## Without the quick stage: arbitrary pairs\n\nTriangle distance starts with a quick stage (one edge pair per triangle pair) that answers nearly every pair of nearby mesh triangles; the pairs it leaves open are gathered for the full fast stage (fifteen candidates and contact) and pay for both. `Engine::quick_stage(false)` sends every pair straight to the full fast stage, for batches of arbitrary pairs (\"refined\" in the table below is the share the quick stage leaves open). Both settings meet the same bounds (the differential suite runs both). Squared distances alone, million pairs per second, one thread; the speed-up is without over with.\n\n| workload | prec |{own_full} FCL |{full_fcl}\n|---|---|{}---|{}", "---|---|---|".repeat(shown.len()), "---|".repeat(shown.len()));
-    for &(id, title) in m.workloads.iter().filter(|w| w.0 == "random" || w.0 == "arm_nearby") {
-        for p in ["f32", "f64"] {
-            let fcl = q1(thr, id, Query::TriTri, "fcl", p);
-            let both: String = shown
-                .iter()
-                .map(|v| {
-                    let (with, without) = (q1(thr, id, Query::TriTri, v, p), q1_full(thr, id, v, p));
-                    format!(" {} | {} | {} |", mq(with), mq(without), ratio(without, with))
-                })
-                .collect();
-            let r: String =
-                shown.iter().map(|v| format!(" **{}** |", ratio(q1_full(thr, id, v, p), fcl))).collect();
-            let _ = writeln!(t, "| {title} | {p} |{both} {} |{r}", mq(fcl));
-        }
-    }
+    fcl_section(
+        &mut t,
+        m,
+        &shown,
+        "\n## With closest points: like for like with FCL\n\nFCL's `TriangleDistance` always computes the closest points. The table above times tridist writing squared distances alone, the cheapest output (what a caller that asks only for distances gets). Here tridist also writes the closest points (`Outputs::closest_points`), the output FCL's figure includes; the squared distances of that pass are first checked, bit for bit, against the pass without points. Million pairs per second, one thread.",
+        ("with points", "with points"),
+        &|id, v, p| q1_points(thr, id, v, p),
+        false,
+    );
+    fcl_section(
+        &mut t,
+        m,
+        &shown,
+        "\n## Without the quick stage: arbitrary pairs\n\nTriangle distance starts with a quick stage (one edge pair per triangle pair) that answers nearly every pair of nearby mesh triangles; the pairs it leaves open are gathered for the full fast stage (fifteen candidates and contact) and pay for both. `Engine::quick_stage(false)` sends every pair straight to the full fast stage, for batches of arbitrary pairs (\"refined\" in the table below is the share the quick stage leaves open). Both settings meet the same bounds (the differential suite runs both). Squared distances alone, million pairs per second, one thread; the speed-up is without over with.",
+        ("without the quick stage", "without"),
+        &|id, v, p| q1_full(thr, id, v, p),
+        true,
+    );
     let _ = writeln!(t, "\n## Where the pairs go ({bn}, default tolerance)\n\nThe certified pipeline: a fast stage answers every pair with an interval (for triangle-triangle distance a quick stage on one edge pair per triangle pair, then, for the pairs it leaves open, gathered into full vectors, the full fast stage on all fifteen candidates: refined); pairs whose interval is wider than the tolerance are re-certified with the tight certificate, then recomputed by the accurate stage in compacted full vectors, then (f32) in f64 from the exactly widened input. Intersection and within-margin first run a cheap test and hand the undecided pairs on (delegated). Percent of the pairs of one pass.\n\n| workload | query | prec | pairs | prefiltered | delegated | refined | recertified | compacted | to f64 | exact | uncertified |\n|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &(id, title) in &m.workloads {
         for r in thr.iter().filter(|r| {

@@ -181,9 +181,8 @@ pub fn violations<T: Float>(
     // triangle distance also without its quick stage: the other path to the same bounds
     let settings: &[bool] = if query == Query::TriTri { &[true, false] } else { &[true] };
     for (v, &quick) in Variant::ALL.iter().flat_map(|v| settings.iter().map(move |q| (*v, q))) {
-        let Ok(o) = v
-            .engine()
-            .and_then(|e| crate::eval::run_with(e.quick_stage(quick), query, v, cases, Some(&ms)))
+        let Ok(o) =
+            v.engine().and_then(|e| crate::eval::run_with(e.quick_stage(quick), query, v, cases, Some(&ms)))
         else {
             continue;
         };
