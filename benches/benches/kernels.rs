@@ -17,7 +17,7 @@ use tridist_scenes::eval::Variant;
 use tridist_scenes::mesh;
 use tridist_scenes::peer::{self, Peer};
 use tridist_scenes::protocol::{self, Grouping};
-use tridist_scenes::workload::{check, check_engine, Workload};
+use tridist_scenes::workload::{check_engine, Workload};
 
 type Pairs = Vec<(tridist::Triangle<f64>, tridist::Triangle<f64>)>;
 
@@ -64,32 +64,22 @@ fn bench_precision<T: Peer>(c: &mut Criterion, name: &str, pairs: &Pairs) {
         let mut g = c.benchmark_group(format!("{}/{name}/{}", q.name(), T::NAME));
         g.throughput(Throughput::Elements(w.len(q) as u64));
         g.sample_size(10);
-        for v in Variant::ALL {
-            match check(&w, q, v) {
-                None => continue,
-                Some(Err(e)) => panic!("{} {} {}: {e}", q.name(), v.name(), T::NAME),
-                Some(Ok(())) => {}
+        // every variant, then (triangle distance) the SIMD ones without the quick stage
+        // (`Engine::quick_stage(false)`, named `<variant>-full`), each checked first
+        let full = Variant::ALL.into_iter().filter(|v| q == Query::TriTri && *v != Variant::Scalar);
+        for (v, quick) in Variant::ALL.into_iter().map(|v| (v, true)).chain(full.map(|v| (v, false))) {
+            let Ok(e) = Engine::new(v.isa()).map(|e| e.quick_stage(quick)) else { continue };
+            let id = if quick { v.name().to_string() } else { format!("{}-full", v.name()) };
+            if let Some(Err(err)) = check_engine(&w, q, v, e) {
+                panic!("{} {id} {}: {err}", q.name(), T::NAME);
             }
-            let e = Engine::new(v.isa()).expect("checked above");
             let n = w.len(q);
             let (mut out, mut flags) = (vec![T::ZERO; n], vec![Intersection::Invalid; n]);
-            g.bench_function(BenchmarkId::from_parameter(v.name()), |b| {
+            g.bench_function(BenchmarkId::from_parameter(id), |b| {
                 b.iter(|| w.run(q, e, v == Variant::Scalar, &mut out, &mut flags).expect("lengths match"))
             });
         }
         if q == Query::TriTri {
-            // without the quick stage (`Engine::quick_stage(false)`), checked like the others
-            for v in Variant::ALL.into_iter().filter(|v| *v != Variant::Scalar) {
-                let Some(e) = Engine::new(v.isa()).ok().map(|e| e.quick_stage(false)) else { continue };
-                if let Some(Err(err)) = check_engine(&w, q, v, e) {
-                    panic!("{} {} {} without the quick stage: {err}", q.name(), v.name(), T::NAME);
-                }
-                let n = w.len(q);
-                let (mut out, mut flags) = (vec![T::ZERO; n], vec![Intersection::Invalid; n]);
-                g.bench_function(BenchmarkId::from_parameter(format!("{}-full", v.name())), |b| {
-                    b.iter(|| w.run(q, e, false, &mut out, &mut flags).expect("lengths match"))
-                });
-            }
             bench_peer(&mut g, &w, name == "random");
         }
         g.finish();

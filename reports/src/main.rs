@@ -678,8 +678,7 @@ fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Resul
                         && r.precision == p
                         && r.threads == 1
                         && r.tolerance == "default"
-                        && r.answer_only()
-                        && !r.full_stages()
+                        && r.plain()
                 })
                 .map(|r| r.qps);
             let fits = err <= tol && scale <= max_s && tol >= min_d;

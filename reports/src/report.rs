@@ -362,7 +362,8 @@ fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), String> {
 }
 
 /// Lookup of a throughput figure (default tolerance unless named; the answer alone, or
-/// closest points too when `points`: a peer has one row, whatever it computes).
+/// closest points too when `points`: a peer has one row, whatever it computes; the default
+/// engine, or without the quick stage when `full`).
 #[allow(clippy::too_many_arguments)]
 fn qps_of(
     t: &[TRow],
@@ -372,7 +373,7 @@ fn qps_of(
     p: &str,
     threads: usize,
     tol: &str,
-    points: bool,
+    (points, full): (bool, bool),
 ) -> Option<f64> {
     let peer = is_peer(imp);
     t.iter()
@@ -384,30 +385,19 @@ fn qps_of(
                 && r.threads == threads
                 && r.tolerance == tol
                 && (peer || r.answer_only() != points)
-                && !r.full_stages()
+                && r.full_stages() == full
         })
         .map(|r| r.qps)
 }
 
 /// One thread, default tolerance, the answer alone, without the quick stage.
 fn q1_full(t: &[TRow], wl: &str, imp: &str, p: &str) -> Option<f64> {
-    t.iter()
-        .find(|r| {
-            r.workload == wl
-                && r.query == Query::TriTri.name()
-                && r.implementation == imp
-                && r.precision == p
-                && r.threads == 1
-                && r.tolerance == "default"
-                && r.answer_only()
-                && r.full_stages()
-        })
-        .map(|r| r.qps)
+    qps_of(t, wl, Query::TriTri, imp, p, 1, "default", (false, true))
 }
 
 /// [`qps_of`] of the answer alone.
 fn qps(t: &[TRow], wl: &str, q: Query, imp: &str, p: &str, threads: usize, tol: &str) -> Option<f64> {
-    qps_of(t, wl, q, imp, p, threads, tol, false)
+    qps_of(t, wl, q, imp, p, threads, tol, (false, false))
 }
 
 /// Is `imp` a peer library (its rows have no tolerance, and one output set)?
@@ -422,7 +412,7 @@ fn q1(t: &[TRow], wl: &str, q: Query, imp: &str, p: &str) -> Option<f64> {
 
 /// One thread, default tolerance, with closest points.
 fn q1_points(t: &[TRow], wl: &str, imp: &str, p: &str) -> Option<f64> {
-    qps_of(t, wl, Query::TriTri, imp, p, 1, "default", true)
+    qps_of(t, wl, Query::TriTri, imp, p, 1, "default", (true, false))
 }
 
 fn mq(x: Option<f64>) -> String {
@@ -661,7 +651,6 @@ fn accuracy_md(s: &Settings, seed: u64, m: &Measured) -> String {
 /// `names.1` in its ratio to FCL) beside the default one, for each shown variant, on the two
 /// workloads FCL runs: the default, the other figure, their ratio when `speedup`, and the other
 /// figure over FCL's.
-#[allow(clippy::type_complexity)]
 fn fcl_section(
     t: &mut String,
     m: &Measured,
@@ -768,8 +757,7 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
                 && r.implementation == bn
                 && r.threads == 1
                 && r.tolerance == "default"
-                && r.answer_only()
-                && !r.full_stages()
+                && r.plain()
         }) {
             let c = &r.counts;
             let _ = writeln!(
@@ -800,8 +788,7 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
                         && r.precision == p
                         && r.threads == 1
                         && r.tolerance == name
-                        && r.answer_only()
-                        && !r.full_stages()
+                        && r.plain()
                 }) else {
                     continue;
                 };

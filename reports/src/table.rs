@@ -77,6 +77,12 @@ impl TRow {
         self.stages == FULL
     }
 
+    /// The answer alone on the default engine: the row every table and `tridist advise`
+    /// read unless they ask for closest points or for the stages.
+    pub fn plain(&self) -> bool {
+        self.answer_only() && !self.full_stages()
+    }
+
     fn fields(&self) -> Vec<String> {
         let c = &self.counts;
         let mut v = vec![
