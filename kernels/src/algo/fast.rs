@@ -212,13 +212,7 @@ fn at_shared_vertex<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], mut o: FastOut<L>)
     if !maybe.any() {
         return o;
     }
-    // (no closures here: they compile without the entry point's target features)
-    let mut at = [k.no(); 3];
-    for (a, x) in at.iter_mut().zip(s) {
-        *a = same(*x, t[0]).or(same(*x, t[1])).or(same(*x, t[2]));
-    }
-    let shared = at[0].or(at[1]).or(at[2]);
-    let x = V3::select(at[0], s[0], V3::select(at[1], s[1], s[2]));
+    let (shared, x) = shared_vertex(s, t);
     o.r.d = L::select(shared, k.zero(), o.r.d);
     o.r.p = V3::select(shared, x, o.r.p);
     o.r.q = V3::select(shared, x, o.r.q);
@@ -287,9 +281,7 @@ pub(crate) fn tri_tri_quick<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut
     // 0 at that vertex, as the full stage's contact candidate answers it, not the edge pair's
     // rounding of it (1e-32 where the edges meet at an angle). The first of the four vertex
     // pairs that match, in this order: (si, tj), (si, tn), (sn, tj), (sn, tn).
-    let at_si = same(si, tj).or(same(si, tn));
-    let shared = at_si.or(same(sn, tj)).or(same(sn, tn));
-    let x = V3::select(at_si, si, sn);
+    let (shared, x) = shared_vertex(&[si, sn], &[tj, tn]);
     let (p, q) = (V3::select(shared, x, p), V3::select(shared, x, q));
     let d = L::select(shared, z, d);
     let w = q.sub(p);
@@ -308,6 +300,28 @@ pub(crate) fn tri_tri_quick<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut
     // suites); an intersecting pair needs the full stage's contact candidate.
     let sharp = excess.le(k.u().mul(k.c(SHARP))).and(lo.gt(z).or(shared));
     FastOut { r: Res { d, p, q }, lo, hi, sharp }
+}
+
+/// Is one of the points `xs` also one of `ys` (every coordinate equal), and the first such
+/// of `xs` (the last of `xs` where none is): the shared vertex both stages answer exactly.
+/// (Loops, no closures: closures compile without the entry point's target features.)
+#[inline(always)]
+fn shared_vertex<L: Lanes, const M: usize, const N: usize>(
+    xs: &[V3<L>; M],
+    ys: &[V3<L>; N],
+) -> (L::M, V3<L>) {
+    let k = Cx::of(xs[0].x);
+    let (mut shared, mut x) = (k.no(), xs[M - 1]);
+    // from the last to the first, so that the first match is the one kept
+    for i in (0..M).rev() {
+        let mut at = k.no();
+        for y in ys {
+            at = at.or(same(xs[i], *y));
+        }
+        x = V3::select(at, xs[i], x);
+        shared = shared.or(at);
+    }
+    (shared, x)
 }
 
 /// Are two points the same (every coordinate equal)? (A function, not a closure: see
