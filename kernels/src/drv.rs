@@ -421,24 +421,38 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
         None => (job.a.run(start, groups * L::N), job.b.run(start, groups * L::N)),
     };
     for g in 0..groups {
-        let mut ids = [0u32; MAX_LANES];
-        let (a, b, lanes) = match idx {
+        let (a, b, ids) = match idx {
             Some(ix) => {
                 let part = &ix[g * L::N..((g + 1) * L::N).min(ix.len())];
-                ids[..part.len()].copy_from_slice(part);
-                (job.a.gather::<L>(kk, part), job.b.gather::<L>(kk, part), part.len())
+                (job.a.gather::<L>(kk, part), job.b.gather::<L>(kk, part), Ids::Gathered(part))
             }
             None => {
                 let i = start + g * L::N;
-                let lanes = L::N.min(end - i);
-                for (l, id) in ids.iter_mut().enumerate().take(lanes) {
-                    *id = (i + l) as u32;
-                }
-                (ra.load_k::<L>(K::KA, kk, i, lanes), rb.load_k::<L>(K::KB, kk, i, lanes), lanes)
+                let n = L::N.min(end - i);
+                (ra.load_k::<L>(K::KA, kk, i, n), rb.load_k::<L>(K::KB, kk, i, n), Ids::Run { at: i, n })
             }
         };
         let o = K::stage::<L, ST>(&a, &b, &job.prm);
-        write::<L>(job, &o, &ids[..lanes], open, answers);
+        write::<L>(job, &o, ids, open, answers);
+    }
+}
+
+/// The pairs of one group of lanes: `n` consecutive ones from `at` (a pass in order), or
+/// the indices a gathered pass took (rising strictly: an open list is pushed in order).
+#[derive(Clone, Copy)]
+enum Ids<'a> {
+    Run { at: usize, n: usize },
+    Gathered(&'a [u32]),
+}
+
+impl Ids<'_> {
+    /// The pair in lane `l`.
+    #[inline(always)]
+    fn of(self, l: usize) -> usize {
+        match self {
+            Ids::Run { at, .. } => at + l,
+            Ids::Gathered(ix) => ix[l] as usize,
+        }
     }
 }
 
@@ -448,7 +462,7 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
 fn write<L: Lanes>(
     job: &mut Job<'_, L::S>,
     o: &crate::algo::Out<L>,
-    ids: &[u32],
+    ids: Ids<'_>,
     open: &mut Pending<L::S>,
     answers: bool,
 ) {
@@ -461,12 +475,15 @@ fn write<L: Lanes>(
         && s.iv.is_none()
         && s.iters.is_none()
         && s.ok.is_none();
-    // The indices rise strictly (a pass numbers its lanes in order, a gathered pass its open
-    // list, pushed in order), so first and last `n - 1` apart means consecutive.
-    let n = ids.len();
-    debug_assert!(ids.windows(2).all(|w| w[0] < w[1]));
-    let at = ids[0] as usize;
-    let consecutive = ids[n - 1] as usize == at + n - 1;
+    // Gathered indices rise strictly, so first and last `n - 1` apart means consecutive.
+    let (at, n, consecutive) = match ids {
+        Ids::Run { at, n } => (at, n, true),
+        Ids::Gathered(ix) => {
+            debug_assert!(ix.windows(2).all(|w| w[0] < w[1]));
+            let (at, n) = (ix[0] as usize, ix.len());
+            (at, n, ix[n - 1] as usize == at + n - 1)
+        }
+    };
     let shut = !ok & ((1u32 << n) - 1);
     // The common cases: squared distances only (no verdict queries, no other output), and the
     // open pairs' answers not needed (the next stage recomputes them and writes over these):
@@ -479,14 +496,14 @@ fn write<L: Lanes>(
             } else {
                 let mut buf = L::ZEROS;
                 o.d.store(buf.as_mut());
-                for (&id, &x) in ids.iter().zip(buf.as_ref()) {
-                    d[id as usize] = x;
+                for (l, &x) in buf.as_ref().iter().enumerate().take(n) {
+                    d[ids.of(l)] = x;
                 }
             }
         }
         let mut rest = shut;
         while rest != 0 {
-            open.push(ids[rest.trailing_zeros() as usize] as usize);
+            open.push(ids.of(rest.trailing_zeros() as usize));
             rest &= rest - 1;
         }
         return;
@@ -510,8 +527,8 @@ fn write<L: Lanes>(
                         *x = $val;
                     }
                 } else {
-                    for ($l, &id) in ids.iter().enumerate() {
-                        s[id as usize] = $val;
+                    for $l in 0..n {
+                        s[ids.of($l)] = $val;
                     }
                 }
             }
@@ -530,9 +547,9 @@ fn write<L: Lanes>(
     while rest != 0 {
         let l = rest.trailing_zeros() as usize;
         if answers {
-            open.push_answer(ids[l] as usize, &lane_of(&buf, ok, l));
+            open.push_answer(ids.of(l), &lane_of(&buf, ok, l));
         } else {
-            open.push(ids[l] as usize);
+            open.push(ids.of(l));
         }
         rest &= rest - 1;
     }
@@ -585,7 +602,7 @@ fn recert<L: Lanes, K: Kernel>(
             (1, 3) => crate::algo::recertify::<L, 1, 3>(&a, &b, d, p, q, &job.prm, K::SHARP),
             _ => crate::algo::recertify::<L, 3, 3>(&a, &b, d, p, q, &job.prm, K::SHARP),
         };
-        write::<L>(job, &o, part, still, false);
+        write::<L>(job, &o, Ids::Gathered(part), still, false);
     }
 }
 
