@@ -84,11 +84,14 @@ impl<'a, T: Real> Src<'a, T> {
     }
 
     /// The primitives `start..end` cut for vector loads ([`Run`]); `n` is the pairs' count rounded
-    /// up to whole vectors.
+    /// up to whole vectors, `k` the kernel's arity (a constant: every column used is then cut
+    /// to the one length `n` in the compiled code, so the loads of a group share one bounds
+    /// check instead of two per column).
     #[inline(always)]
-    fn run(self, start: usize, n: usize) -> Run<'a, T> {
+    fn run(self, k: usize, start: usize, n: usize) -> Run<'a, T> {
+        debug_assert_eq!(k, self.k());
         let mut cols: [&'a [T]; 9] = [&[]; 9];
-        if let Src::Soa { data, cap, base, k } = self {
+        if let Src::Soa { data, cap, base, .. } = self {
             // Columns are padded to a multiple of `batch::PAD` with copies of the last primitive.
             for (j, c) in cols.iter_mut().enumerate().take(3 * k) {
                 let at = j * cap + base + start;
@@ -417,8 +420,8 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
         None => (end - start).div_ceil(L::N),
     };
     let (ra, rb) = match idx {
-        Some(_) => (job.a.run(start, 0), job.b.run(start, 0)),
-        None => (job.a.run(start, groups * L::N), job.b.run(start, groups * L::N)),
+        Some(_) => (job.a.run(K::KA, start, 0), job.b.run(K::KB, start, 0)),
+        None => (job.a.run(K::KA, start, groups * L::N), job.b.run(K::KB, start, groups * L::N)),
     };
     for g in 0..groups {
         let (a, b, ids) = match idx {
