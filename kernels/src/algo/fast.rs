@@ -201,18 +201,9 @@ pub(crate) fn tri_tri_fast<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut<
 #[inline(always)]
 fn at_shared_vertex<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], mut o: FastOut<L>) -> FastOut<L> {
     let k = Cx::of(o.lo);
-    // screened by one coordinate, so that pairs with no common vertex (nearly all that get
-    // here) pay nine compares
-    let mut maybe = k.no();
-    for x in s {
-        for y in t {
-            maybe = maybe.or(x.x.eq(y.x));
-        }
-    }
-    if !maybe.any() {
+    let Some((shared, x)) = shared_vertex(s, t) else {
         return o;
-    }
-    let (shared, x) = shared_vertex(s, t);
+    };
     o.r.d = L::select(shared, k.zero(), o.r.d);
     o.r.p = V3::select(shared, x, o.r.p);
     o.r.q = V3::select(shared, x, o.r.q);
@@ -281,9 +272,12 @@ pub(crate) fn tri_tri_quick<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut
     // 0 at that vertex, as the full stage's contact candidate answers it, not the edge pair's
     // rounding of it (1e-32 where the edges meet at an angle). The first of the four vertex
     // pairs that match, in this order: (si, tj), (si, tn), (sn, tj), (sn, tn).
-    let (shared, x) = shared_vertex(&[si, sn], &[tj, tn]);
-    let (p, q) = (V3::select(shared, x, p), V3::select(shared, x, q));
-    let d = L::select(shared, z, d);
+    let (p, q, d, shared) = match shared_vertex(&[si, sn], &[tj, tn]) {
+        Some((shared, x)) => {
+            (V3::select(shared, x, p), V3::select(shared, x, q), L::select(shared, z, d), shared)
+        }
+        None => (p, q, d, k.no()),
+    };
     let w = q.sub(p);
     let both = interior(a).and(interior(b)).andnot(shared);
     let n = ei.cross_accurate(fj).unit_pow2();
@@ -304,13 +298,24 @@ pub(crate) fn tri_tri_quick<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut
 
 /// Is one of the points `xs` also one of `ys` (every coordinate equal), and the first such
 /// of `xs` (the last of `xs` where none is): the shared vertex both stages answer exactly.
+/// `None` when no lane can have one: screened by one coordinate, so that groups with no common
+/// vertex pay `M N` compares and no selects.
 /// (Loops, no closures: closures compile without the entry point's target features.)
 #[inline(always)]
 fn shared_vertex<L: Lanes, const M: usize, const N: usize>(
     xs: &[V3<L>; M],
     ys: &[V3<L>; N],
-) -> (L::M, V3<L>) {
+) -> Option<(L::M, V3<L>)> {
     let k = Cx::of(xs[0].x);
+    let mut maybe = k.no();
+    for x in xs {
+        for y in ys {
+            maybe = maybe.or(x.x.eq(y.x));
+        }
+    }
+    if !maybe.any() {
+        return None;
+    }
     let (mut shared, mut x) = (k.no(), xs[M - 1]);
     // from the last to the first, so that the first match is the one kept
     for i in (0..M).rev() {
@@ -321,7 +326,7 @@ fn shared_vertex<L: Lanes, const M: usize, const N: usize>(
         x = V3::select(at, xs[i], x);
         shared = shared.or(at);
     }
-    (shared, x)
+    Some((shared, x))
 }
 
 /// Are two points the same (every coordinate equal)? (A function, not a closure: see
