@@ -161,18 +161,20 @@ impl<'a, T: Real> Src<'a, T> {
     /// layout is matched once, not per coordinate (compaction gathers a large share of the
     /// pairs when the quick stage of triangle distance leaves them open).
     #[inline(always)]
-    fn gather<L: Lanes<S = T>>(&self, kk: L::K, idx: &[u32]) -> [V3<L>; 3] {
+    fn gather<L: Lanes<S = T>>(&self, k: usize, kk: L::K, idx: &[u32]) -> [V3<L>; 3] {
+        debug_assert_eq!(k, self.k());
         let mut coord = [L::splat(kk, T::ZERO); 9];
         let mut at = [0usize; MAX_LANES];
         for (l, a) in at.iter_mut().enumerate().take(L::N) {
             *a = idx[l.min(idx.len() - 1)] as usize;
         }
-        let k = self.k();
         match *self {
             Src::Soa { data, cap, base, .. } => {
                 let ix = GatherIx::new(at);
+                // every column cut to the one length `cap - base`, so that the compiled code
+                // checks each lane's index once for all columns, not once per column
                 for (j, c) in coord.iter_mut().enumerate().take(3 * k) {
-                    *c = L::gather(kk, &data[j * cap + base..], &ix);
+                    *c = L::gather(kk, &data[j * cap + base..][..cap - base], &ix);
                 }
             }
             Src::Aos { flat, .. } => {
@@ -180,8 +182,11 @@ impl<'a, T: Real> Src<'a, T> {
                     *a *= 3 * k;
                 }
                 let ix = GatherIx::new(at);
+                // every coordinate's view cut to one length (the first index of the last
+                // primitive, plus one), for one check per lane as above
+                let m = (flat.len() + 1).saturating_sub(3 * k);
                 for (j, c) in coord.iter_mut().enumerate().take(3 * k) {
-                    *c = L::gather(kk, &flat[j..], &ix);
+                    *c = L::gather(kk, &flat[j..][..m], &ix);
                 }
             }
             Src::One { flat, .. } => {
@@ -427,7 +432,7 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
         let (a, b, ids) = match idx {
             Some(ix) => {
                 let part = &ix[g * L::N..((g + 1) * L::N).min(ix.len())];
-                (job.a.gather::<L>(kk, part), job.b.gather::<L>(kk, part), Ids::Gathered(part))
+                (job.a.gather::<L>(K::KA, kk, part), job.b.gather::<L>(K::KB, kk, part), Ids::Gathered(part))
             }
             None => {
                 let i = start + g * L::N;
@@ -586,7 +591,7 @@ fn recert<L: Lanes, K: Kernel>(
     for g in 0..ix.len().div_ceil(L::N) {
         let (lo, hi) = (g * L::N, ((g + 1) * L::N).min(ix.len()));
         let part = &ix[lo..hi];
-        let (a, b) = (job.a.gather::<L>(kk, part), job.b.gather::<L>(kk, part));
+        let (a, b) = (job.a.gather::<L>(K::KA, kk, part), job.b.gather::<L>(K::KB, kk, part));
         let mut cols = [[L::S::ZERO; MAX_LANES]; 7];
         for l in 0..L::N {
             let ans = &open.ans[lo + l.min(part.len() - 1)];
