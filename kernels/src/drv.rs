@@ -428,6 +428,7 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
         Some(_) => (job.a.run(K::KA, start, 0), job.b.run(K::KB, start, 0)),
         None => (job.a.run(K::KA, start, groups * L::N), job.b.run(K::KB, start, groups * L::N)),
     };
+    let only_d = job.sink.only_d();
     for g in 0..groups {
         let (a, b, ids) = match idx {
             Some(ix) => {
@@ -441,7 +442,7 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
             }
         };
         let o = K::stage::<L, ST>(&a, &b, &job.prm);
-        write::<L>(job, &o, ids, open, answers);
+        write::<L>(job, &o, ids, open, (answers, only_d));
     }
 }
 
@@ -464,25 +465,33 @@ impl Ids<'_> {
     }
 }
 
+impl<T> Sink<'_, T> {
+    /// Are squared distances the only output asked for (no verdicts, points, intervals,
+    /// iterations or acceptance)? Asked once per pass, not per group (seven tests).
+    #[inline(always)]
+    fn only_d(&self) -> bool {
+        self.verdict.is_none()
+            && self.cp.is_none()
+            && self.p.is_none()
+            && self.q.is_none()
+            && self.iv.is_none()
+            && self.iters.is_none()
+            && self.ok.is_none()
+    }
+}
+
 /// Writes every lane's answer and collects the ones not accepted (with their answers when
-/// `answers`).
+/// `answers`). `only_d`: [`Sink::only_d`] of `job.sink`.
 #[inline(always)]
 fn write<L: Lanes>(
     job: &mut Job<'_, L::S>,
     o: &crate::algo::Out<L>,
     ids: Ids<'_>,
     open: &mut Pending<L::S>,
-    answers: bool,
+    (answers, only_d): (bool, bool),
 ) {
+    debug_assert_eq!(only_d, job.sink.only_d());
     let ok = o.ok.bits();
-    let s = &job.sink;
-    let only_d = s.verdict.is_none()
-        && s.cp.is_none()
-        && s.p.is_none()
-        && s.q.is_none()
-        && s.iv.is_none()
-        && s.iters.is_none()
-        && s.ok.is_none();
     // Gathered indices rise strictly, so first and last `n - 1` apart means consecutive.
     let (at, n, consecutive) = match ids {
         Ids::Run { at, n } => (at, n, true),
@@ -588,6 +597,7 @@ fn recert<L: Lanes, K: Kernel>(
 ) {
     let ix = open.as_slice();
     debug_assert_eq!(open.ans.len(), ix.len(), "re-certification of pairs pushed without their answers");
+    let only_d = job.sink.only_d();
     for g in 0..ix.len().div_ceil(L::N) {
         let (lo, hi) = (g * L::N, ((g + 1) * L::N).min(ix.len()));
         let part = &ix[lo..hi];
@@ -610,7 +620,7 @@ fn recert<L: Lanes, K: Kernel>(
             (1, 3) => crate::algo::recertify::<L, 1, 3>(&a, &b, d, p, q, &job.prm, K::SHARP),
             _ => crate::algo::recertify::<L, 3, 3>(&a, &b, d, p, q, &job.prm, K::SHARP),
         };
-        write::<L>(job, &o, Ids::Gathered(part), still, false);
+        write::<L>(job, &o, Ids::Gathered(part), still, (false, only_d));
     }
 }
 
