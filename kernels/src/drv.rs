@@ -98,7 +98,7 @@ impl<'a, T: Real> Src<'a, T> {
                 *c = &data[at..at + n];
             }
         }
-        Run { src: self, cols, start }
+        Run { src: self, cols, start, k }
     }
 }
 
@@ -110,14 +110,15 @@ struct Run<'a, T> {
     src: Src<'a, T>,
     cols: [&'a [T]; 9],
     start: usize,
+    /// The kernel's arity (a constant in the compiled code: see [`Src::run`]).
+    k: usize,
 }
 
 impl<T: Real> Run<'_, T> {
-    /// [`Run::load`] with the arity `k` (a kernel's constant) turned into a const parameter.
+    /// [`Run::load`] with the arity (a kernel's constant) turned into a const parameter.
     #[inline(always)]
-    fn load_k<L: Lanes<S = T>>(&self, k: usize, kk: L::K, i: usize, lanes: usize) -> [V3<L>; 3] {
-        debug_assert_eq!(k, self.src.k());
-        match k {
+    fn load_k<L: Lanes<S = T>>(&self, kk: L::K, i: usize, lanes: usize) -> [V3<L>; 3] {
+        match self.k {
             1 => self.load::<L, 1>(kk, i, lanes),
             2 => self.load::<L, 2>(kk, i, lanes),
             _ => self.load::<L, 3>(kk, i, lanes),
@@ -159,7 +160,8 @@ impl<T: Real> Run<'_, T> {
 impl<'a, T: Real> Src<'a, T> {
     /// The primitives `idx[0..]` (at most `L::N`; lanes beyond repeat the last one). The
     /// layout is matched once, not per coordinate (compaction gathers a large share of the
-    /// pairs when the quick stage of triangle distance leaves them open).
+    /// pairs when the quick stage of triangle distance leaves them open). `k`: the kernel's
+    /// arity, a constant, as for [`Src::run`].
     #[inline(always)]
     fn gather<L: Lanes<S = T>>(&self, k: usize, kk: L::K, idx: &[u32]) -> [V3<L>; 3] {
         debug_assert_eq!(k, self.k());
@@ -438,7 +440,7 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
             None => {
                 let i = start + g * L::N;
                 let n = L::N.min(end - i);
-                (ra.load_k::<L>(K::KA, kk, i, n), rb.load_k::<L>(K::KB, kk, i, n), Ids::Run { at: i, n })
+                (ra.load_k::<L>(kk, i, n), rb.load_k::<L>(kk, i, n), Ids::Run { at: i, n })
             }
         };
         let o = K::stage::<L, ST>(&a, &b, &job.prm);
