@@ -121,6 +121,15 @@ pub(crate) trait Lanes: Copy {
     /// stage, and with one bounds check per group of loads, `spin tri_tri arm_nearby f32
     /// avx2fma` went from 91-98 to 98-101 M/s (a971abd).
     fn recip_exponent(self) -> Self;
+    /// For non-negative `self` and `o` (sign bits clear, as [`Lanes::abs`] leaves them): a
+    /// non-negative value whose exponent field is the larger of theirs, all ones (inf or NaN)
+    /// when either's is; its other bits are unspecified. An integer maximum of the bit
+    /// patterns, where the hardware has one (SSE4.1 and AVX2: of each 32-bit half, whose high
+    /// half holds an f64's exponent; AVX-512 and scalar: of the whole pattern), a one-cycle
+    /// instruction where the floating-point maximum takes four. [`crate::algo::prescale`]
+    /// reduces a pair's 18 coordinates with it to find their power of two and finiteness, on
+    /// the path in front of every lane's arithmetic.
+    fn max_exp(self, o: Self) -> Self;
     /// `col[ix.at[l]]` in lane `l` (panics when an index is out of bounds): lane compaction. One
     /// load per lane through a buffer here; the AVX-512 types use the hardware gather. (AVX2's
     /// gather was tried for the 256-bit types: it halved the compacted stage's throughput on
@@ -351,6 +360,11 @@ macro_rules! scalar_lanes {
                 use crate::real::sealed::Sealed;
                 <$t>::from_bits64(!self.bits() & <$t>::EXP_MASK) * 0.5
             }
+            #[inline(always)]
+            fn max_exp(self, o: Self) -> Self {
+                use crate::real::sealed::Sealed;
+                <$t>::from_bits64(self.bits().max(o.bits()))
+            }
         }
     };
 }
@@ -437,12 +451,20 @@ impl<L: Lanes> V3<L> {
     #[inline(always)]
     pub fn unit_pow2(self) -> Self {
         let k = Cx::of(self.x);
+        let tiny = k.splat(L::S::MIN_POSITIVE);
         // 1/m, m the largest component's power of two, is exact; m >= MIN_POSITIVE keeps it
-        // finite, and a subnormal direction scaled by 2^126 (2^1022) is exact too.
-        let r = self.norm_inf().max(k.splat(L::S::MIN_POSITIVE)).recip_exponent();
+        // finite, and a subnormal direction scaled by 2^126 (2^1022) is exact too. Only the
+        // largest exponent is read, so it is found by [`Lanes::max_exp`] (the candidates'
+        // directions are on the quick stage's critical path).
+        let r = self.max_exp().max_exp(tiny).recip_exponent();
         // two steps for subnormal input: 1/MIN_POSITIVE alone leaves it below 1
         let v = self.scale(r);
-        v.scale(v.norm_inf().max(k.splat(L::S::MIN_POSITIVE)).recip_exponent())
+        v.scale(v.max_exp().max_exp(tiny).recip_exponent())
+    }
+    /// A value with the exponent field of the largest absolute component ([`Lanes::max_exp`]).
+    #[inline(always)]
+    fn max_exp(self) -> L {
+        self.x.abs().max_exp(self.y.abs()).max_exp(self.z.abs())
     }
     #[inline(always)]
     pub fn select(m: L::M, t: Self, f: Self) -> Self {

@@ -325,6 +325,41 @@ fn overflowing_squares_give_infinity_with_finite_points() {
     }
 }
 
+/// Triangles near `-MAX/2` and `+MAX/2` whose closest points are their tips: every raw
+/// difference between the two overflows, so the local frame of triangle distance takes the
+/// scaled points' differences for such lanes (`algo::local_pair`). The distance is beyond
+/// `MAX`, so the squared distance is `+inf` (documented), and the points are the tips exactly.
+fn tips_near_max<T: tridist::Real>(engines: &[Engine]) {
+    let h = T::from_f64(0.0) + T::MAX * T::from_f64(0.5);
+    let (q1, q2) = (h * T::from_f64(0.25), h * T::from_f64(1.5));
+    let z = T::from_f64(0.0);
+    let a = [[z - h, z, z], [z - q2, q1, z], [z - q2, z - q1, q1]];
+    let b = a.map(|p| [z - p[0], p[1], p[2]]);
+    // a lane of ordinary magnitude beside it must keep its own answer
+    let (sa, sb) =
+        ([[z; 3], [T::from_f64(1.0), z, z], [z, T::from_f64(1.0), z]], [[z, z, T::from_f64(2.0)]; 3]);
+    for e in engines.iter().flat_map(|e| [*e, e.quick_stage(false)]) {
+        let mut cp = vec![ClosestPoints::default(); 9];
+        let xa: Vec<_> = (0..9).map(|i| if i % 2 == 0 { a } else { sa }).collect();
+        let xb: Vec<_> = (0..9).map(|i| if i % 2 == 0 { b } else { sb }).collect();
+        e.closest_points_triangle_triangle(&xa[..], &xb[..], &mut cp).unwrap();
+        for (i, c) in cp.iter().enumerate() {
+            if i % 2 == 0 {
+                assert_eq!(c.sqdist, T::INFINITY, "{:?} {i}", e.isa());
+                assert_eq!((c.p, c.q), (a[0], b[0]), "{:?} {i}", e.isa());
+            } else {
+                assert_eq!(c.sqdist, T::from_f64(4.0), "{:?} {i}", e.isa());
+            }
+        }
+    }
+}
+
+#[test]
+fn raw_differences_that_overflow_are_taken_from_scaled_points() {
+    tips_near_max::<f32>(&engines());
+    tips_near_max::<f64>(&engines());
+}
+
 #[test]
 fn threaded_batches_give_the_same_bits() {
     let ps = pairs::<f32>(3001);

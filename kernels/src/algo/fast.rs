@@ -376,8 +376,13 @@ fn edge_pair<L: Lanes>(a: V3<L>, e: V3<L>, iea: L, b: V3<L>, f: V3<L>, ifb: L) -
     let bb = e.dot(f);
     let (ed, fd) = (e.dot(d), f.dot(d));
     let s0 = n.dot(d.cross(f)).safe_div(n.norm2()).clamp01();
-    let tt = bb.mul(s0).sub(fd).mul(ifb).clamp01();
-    let ss = bb.mul_add(tt, ed).mul(iea).clamp01();
+    // t = (bb s0 - fd) / |f|^2 and s = (bb t + ed) / |e|^2, each one multiply-add after the
+    // parameter it waits for: the products with the reciprocals are formed beside the
+    // division, off the quick stage's critical path (the parameters are clamped and only
+    // move the points along their edges, so their rounding is the certificate's concern,
+    // not their exactness)
+    let tt = bb.mul(ifb).mul_add(s0, fd.mul(ifb).neg()).clamp01();
+    let ss = bb.mul(iea).mul_add(tt, ed.mul(iea)).clamp01();
     // W = q - p = (b - a) + t f - s e
     let w = d.add_scaled(f, tt).add_scaled(e, ss.neg());
     (w.norm2(), ss, tt)

@@ -156,34 +156,37 @@ pub(crate) struct Scaled<L: Lanes, const K: usize> {
 #[inline(always)]
 pub(crate) fn prescale<L: Lanes, const K: usize>(pts: [V3<L>; K]) -> Scaled<L, K> {
     let k = Cx::of(pts[0].x);
-    let big = k.splat(L::S::MAX);
-    // Finite when no coordinate is NaN (their sum is not NaN; a finite sum may overflow to
-    // inf, which the second test does not read) and none is infinite (then the largest, a true
-    // maximum without NaN, is at most MAX): two comparisons instead of one per coordinate.
+    // The largest exponent of the coordinates (and of the smallest normal) by the integer
+    // maximum of their bit patterns ([`Lanes::max_exp`]): it gives the power of two and
+    // finiteness (no exponent field all ones: no NaN, no infinity), and it is on the path in
+    // front of every lane's arithmetic, where a floating-point maximum takes four cycles to its
+    // one (nearby Armadillo pairs: `spin tri_tri arm_nearby f32 avx2fma`, see ARCHITECTURE.md).
+    // The magnitude itself (thresholds at the end) is the floating-point maximum, beside it.
     // Both reduced as trees (a chain of 3K dependent operations would lie on every lane's
     // critical path).
     const { assert!(K <= 6, "prescale takes at most six points") };
-    let mut sums = [k.zero(); 18];
+    let mut exps = [k.zero(); 18];
     let mut maxs = [k.zero(); 18];
     let mut n = 0;
     for v in &pts {
         for x in [v.x, v.y, v.z] {
             let a = x.abs();
-            (sums[n], maxs[n]) = (a, a);
+            (exps[n], maxs[n]) = (a, a);
             n += 1;
         }
     }
     while n > 1 {
         let h = n / 2;
         for i in 0..h {
-            sums[i] = sums[i].add(sums[i + n - h]);
+            exps[i] = exps[i].max_exp(exps[i + n - h]);
             maxs[i] = maxs[i].max(maxs[i + n - h]);
         }
         n -= h;
     }
-    let (sum, m) = (sums[0], maxs[0].max(k.splat(L::S::MIN_POSITIVE)));
-    let finite = sum.eq(sum).and(m.le(big));
-    let (p, inv) = (m.exponent(), m.recip_exponent());
+    let tiny = k.splat(L::S::MIN_POSITIVE);
+    let (e, m) = (exps[0].max_exp(tiny), maxs[0].max(tiny));
+    let finite = e.lt(k.inf());
+    let (p, inv) = (e.exponent(), e.recip_exponent());
     let mut out = pts;
     for v in out.iter_mut() {
         *v = v.scale(inv);
@@ -217,6 +220,42 @@ pub(crate) fn scale_pair<L: Lanes, const KA: usize, const KB: usize>(
     let s = [sc.pts[0], sc.pts[1], sc.pts[2]];
     let t = [sc.pts[3], sc.pts[4], sc.pts[5]];
     (sc, s, t)
+}
+
+/// The pair in a local frame with `a[0]` at the origin, prescaled: `(x - a_0) / p` for every
+/// vertex (the first exactly 0), and the origin `a_0 / p` to add back. The raw differences are
+/// taken first and scaled after, so that the prescaling (the magnitude of 18 coordinates
+/// reduced as a tree, and its power of two) runs beside the differences instead of in front
+/// of them: the quick stage of triangle distance is bound by its dependency chains
+/// (ARCHITECTURE.md, "The critical path"). The bits are those of `x / p - a_0 / p` whenever no
+/// scaled value is subnormal: rounding commutes with scaling by a power of two, and a
+/// subnormal raw difference is exact. Where one is (coordinates below 2^-126 (f32) of the
+/// pair's magnitude), this rounds once in the normal range and once when scaled, no more than
+/// the other order's two underflows. A raw difference can overflow only when the magnitude
+/// exceeds `MAX / 2` (`|x - a_0| <= 2 S`, and a rounded value of at most `MAX` stays at most
+/// `MAX`): such lanes, and non-finite ones (zeroed by [`prescale`]), take the differences of
+/// the scaled points, lane by lane, so a pair's answer never depends on its neighbours.
+#[inline(always)]
+pub(crate) fn local_pair<L: Lanes>(
+    a: &[V3<L>; 3],
+    b: &[V3<L>; 3],
+    sc: &Scaled<L, 6>,
+) -> ([V3<L>; 3], [V3<L>; 3], V3<L>) {
+    let k = Cx::of(sc.inv);
+    let (o, inv) = (a[0], sc.inv);
+    let mut ls = [k.v0(), a[1].sub(o).scale(inv), a[2].sub(o).scale(inv)];
+    let mut lt = [b[0].sub(o).scale(inv), b[1].sub(o).scale(inv), b[2].sub(o).scale(inv)];
+    let odd = sc.m.gt(k.splat(L::S::MAX).mul(k.c(0.5))).or(sc.finite.not());
+    let p = &sc.pts;
+    if odd.any() {
+        for i in 1..3 {
+            ls[i] = V3::select(odd, p[i].sub(p[0]), ls[i]);
+        }
+        for i in 0..3 {
+            lt[i] = V3::select(odd, p[3 + i].sub(p[0]), lt[i]);
+        }
+    }
+    (ls, lt, p[0])
 }
 
 /// Finishes a stage: certifies `r` (prescaled) against the prescaled primitives
@@ -485,3 +524,43 @@ pub(crate) trait SelectExt: Lanes {
     }
 }
 impl<L: Lanes> SelectExt for L {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`local_pair`] gives the differences of the scaled points, bit for bit and finite, on
+    /// pairs of ordinary, huge, tiny and near-`MAX` magnitude (there every raw difference
+    /// across the origin overflows: the lanes that must take the scaled points' differences).
+    fn local_pair_is_the_scaled_difference<S: Real + Lanes<S = S>>() -> usize {
+        let mut checked = 0;
+        let big = S::MAX * S::from_f64(0.75);
+        for (mag, i) in [(S::from_f64(1.0), 0), (S::from_f64(1e30), 1), (S::from_f64(1e-30), 2), (big, 3)] {
+            let c = |x: f64| S::from_f64(x) * mag;
+            // a near -mag, b near +mag, with distinct coordinates of both signs
+            let a = [[-1.0, 0.1, 0.0], [-0.75, 0.25, -0.5], [-0.75, -0.25, 0.5]].map(|p| p.map(c));
+            let b = [[1.0, 0.0, 0.1], [0.75, -0.25, 0.5], [0.625, 0.25, -0.5]].map(|p| p.map(c));
+            let v = |p: [S; 3]| V3::new(p[0], p[1], p[2]);
+            let (a, b) = (a.map(v), b.map(v));
+            let sc = prescale([a[0], a[1], a[2], b[0], b[1], b[2]]);
+            let (ls, lt, o) = local_pair(&a, &b, &sc);
+            let p = &sc.pts;
+            for (j, got) in ls.iter().chain(&lt).enumerate() {
+                let want = p[j].sub(p[0]);
+                for (g, w) in [(got.x, want.x), (got.y, want.y), (got.z, want.z)] {
+                    assert!(g.is_finite(), "case {i} point {j}: {g:?}");
+                    assert_eq!(g.bits(), w.bits(), "case {i} point {j}");
+                    checked += 1;
+                }
+            }
+            assert_eq!((o.x.bits(), o.y.bits(), o.z.bits()), (p[0].x.bits(), p[0].y.bits(), p[0].z.bits()));
+        }
+        checked
+    }
+
+    #[test]
+    fn local_pair_is_the_scaled_difference_at_every_magnitude() {
+        assert_eq!(local_pair_is_the_scaled_difference::<f32>(), 4 * 6 * 3);
+        assert_eq!(local_pair_is_the_scaled_difference::<f64>(), 4 * 6 * 3);
+    }
+}

@@ -10,7 +10,7 @@
 use super::fast::{tri_tri_fast, tri_tri_quick};
 use super::point_tri::point_triangle;
 use super::seg_seg::seg_seg;
-use super::{conclude, edges, finish, keep_min, scale_pair, sharp_tight, swap, Kernel, Out, Params, Res, SelectExt};
+use super::{conclude, edges, finish, keep_min, local_pair, scale_pair, sharp_tight, swap, Kernel, Out, Params, Res, SelectExt};
 use crate::lanes::{Cx, Lanes, Mask, V3};
 use crate::Query;
 
@@ -29,10 +29,7 @@ impl Kernel for TriTri {
         if ST < 2 {
             // the quick stage (one edge pair), then, on the pairs it leaves open, the full fast
             // stage (all 15 candidates and contact), in the same local frame
-            let o = s[0];
-            let k = Cx::of(o.x);
-            let ls = [k.v0(), s[1].sub(o), s[2].sub(o)];
-            let lt = [t[0].sub(o), t[1].sub(o), t[2].sub(o)];
+            let (ls, lt, o) = local_pair(a, b, &sc);
             let f = if ST == 0 { tri_tri_quick(&ls, &lt) } else { tri_tri_fast(&ls, &lt) };
             let mut out = conclude(&sc, f.lo, f.hi, Some(o), f.r, prm);
             out.ok = out.ok.and(f.sharp.or(sc.finite.not()));

@@ -73,17 +73,22 @@ impl HasSse41 for Sse41 {}
 /// Tokens that prove AVX (the 256-bit types); `FMA` when they also prove FMA.
 pub(crate) trait HasAvx: Token {
     const FMA: bool;
+    /// Does the token also prove AVX2 (the 256-bit integer instructions)?
+    const AVX2: bool;
 }
 #[cfg(feature = "avx")]
 impl HasAvx for Avx {
     const FMA: bool = false;
+    const AVX2: bool = false;
 }
 impl HasAvx for Avx2Fma {
     const FMA: bool = true;
+    const AVX2: bool = true;
 }
 /// (The AVX-512 entry points run the mesh node test on the 256-bit types.)
 impl HasAvx for Avx512 {
     const FMA: bool = true;
+    const AVX2: bool = true;
 }
 
 /// Tokens that prove AVX-512F (the 512-bit types, always fused).
@@ -187,6 +192,42 @@ mask_type!(
     0xf
 );
 
+/// The helpers behind [`Lanes::max_exp`], one per vector type: the integer maximum of the bit
+/// patterns (of each 32-bit half below AVX-512, whose high half holds an f64's exponent).
+/// Without AVX2 (the AVX variant) the 256-bit forms take the floating-point maximum and set
+/// every exponent bit of a lane where either operand is NaN (the maximum drops a NaN).
+///
+/// # Safety
+/// The CPU must run the instruction set of `K`'s token; the 256-bit forms use AVX2 only when
+/// `K::AVX2`.
+macro_rules! max_exp_fns {
+    ($($name:ident, $cap:ident, $reg:ty, |$a:ident, $b:ident| $body:expr;)*) => {$(
+        #[inline(always)]
+        unsafe fn $name<K: $cap>($a: $reg, $b: $reg) -> $reg {
+            // SAFETY: the caller holds a token of `K` (see the macro's docs).
+            unsafe { $body }
+        }
+    )*};
+}
+max_exp_fns!(
+    max_exp128_ps, HasSse41, __m128, |a, b| _mm_castsi128_ps(_mm_max_epu32(_mm_castps_si128(a), _mm_castps_si128(b)));
+    max_exp128_pd, HasSse41, __m128d, |a, b| _mm_castsi128_pd(_mm_max_epu32(_mm_castpd_si128(a), _mm_castpd_si128(b)));
+    max_exp256_ps, HasAvx, __m256, |a, b| if K::AVX2 {
+        _mm256_castsi256_ps(_mm256_max_epu32(_mm256_castps_si256(a), _mm256_castps_si256(b)))
+    } else {
+        let nan = _mm256_cmp_ps::<_CMP_UNORD_Q>(a, b);
+        _mm256_or_ps(_mm256_max_ps(a, b), _mm256_and_ps(nan, _mm256_set1_ps(f32::INFINITY)))
+    };
+    max_exp256_pd, HasAvx, __m256d, |a, b| if K::AVX2 {
+        _mm256_castsi256_pd(_mm256_max_epu32(_mm256_castpd_si256(a), _mm256_castpd_si256(b)))
+    } else {
+        let nan = _mm256_cmp_pd::<_CMP_UNORD_Q>(a, b);
+        _mm256_or_pd(_mm256_max_pd(a, b), _mm256_and_pd(nan, _mm256_set1_pd(f64::INFINITY)))
+    };
+    max_exp512_ps, HasAvx512, __m512, |a, b| _mm512_castsi512_ps(_mm512_max_epu32(_mm512_castps_si512(a), _mm512_castps_si512(b)));
+    max_exp512_pd, HasAvx512, __m512d, |a, b| _mm512_castsi512_pd(_mm512_max_epu64(_mm512_castpd_si512(a), _mm512_castpd_si512(b)));
+);
+
 /// One vector type over a token `K: $cap`; `mul_add` is fused when `$fma` holds for `K`.
 macro_rules! vec_type {
     (
@@ -195,7 +236,8 @@ macro_rules! vec_type {
         add = $add:ident, sub = $sub:ident, mul = $mul:ident, div = $div:ident,
         min = $min:ident, max = $max:ident, sqrt = $sqrt:ident, and = $and:ident,
         andnot = $andnot:ident, blendv = $blendv:ident, fmadd = $fmadd:ident,
-        lt = $lt:expr, le = $le:expr, eq = $eq:expr, bits = $bits:ty $(, gather = $gather:ident)?
+        lt = $lt:expr, le = $le:expr, eq = $eq:expr, bits = $bits:ty, max_exp = $max_exp:ident
+        $(, gather = $gather:ident)?
     ) => {
         #[derive(Clone, Copy)]
         pub(crate) struct $name<K>($reg, K);
@@ -313,6 +355,12 @@ macro_rules! vec_type {
                 // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
                 Self(unsafe { $mul($andnot(self.0, $set1(m)), $set1(0.5)) }, self.1)
             }
+            #[inline(always)]
+            fn max_exp(self, o: Self) -> Self {
+                // SAFETY: `self.1` is a token of `K`, whose instruction set `$max_exp` checks
+                // before using anything beyond it (module docs).
+                Self(unsafe { $max_exp::<K>(self.0, o.0) }, self.1)
+            }
             $(
                 #[inline(always)]
                 fn gather(k: K, col: &[$s], ix: &GatherIx) -> Self {
@@ -351,7 +399,8 @@ vec_type!(
     lt = _mm_cmplt_ps,
     le = _mm_cmple_ps,
     eq = _mm_cmpeq_ps,
-    bits = u32
+    bits = u32,
+    max_exp = max_exp128_ps
 );
 vec_type!(
     F64x2,
@@ -378,7 +427,8 @@ vec_type!(
     lt = _mm_cmplt_pd,
     le = _mm_cmple_pd,
     eq = _mm_cmpeq_pd,
-    bits = u64
+    bits = u64,
+    max_exp = max_exp128_pd
 );
 vec_type!(
     F32x8,
@@ -405,7 +455,8 @@ vec_type!(
     lt = _mm256_cmp_ps::<_CMP_LT_OQ>,
     le = _mm256_cmp_ps::<_CMP_LE_OQ>,
     eq = _mm256_cmp_ps::<_CMP_EQ_OQ>,
-    bits = u32
+    bits = u32,
+    max_exp = max_exp256_ps
 );
 vec_type!(
     F64x4,
@@ -432,7 +483,8 @@ vec_type!(
     lt = _mm256_cmp_pd::<_CMP_LT_OQ>,
     le = _mm256_cmp_pd::<_CMP_LE_OQ>,
     eq = _mm256_cmp_pd::<_CMP_EQ_OQ>,
-    bits = u64
+    bits = u64,
+    max_exp = max_exp256_pd
 );
 
 /// An AVX-512 comparison mask: one bit per lane in a `__mmask16` / `__mmask8` (plain integer
@@ -584,6 +636,7 @@ vec_type!(
     le = _mm512_cmp_ps_mask::<_CMP_LE_OQ>,
     eq = _mm512_cmp_ps_mask::<_CMP_EQ_OQ>,
     bits = u32,
+    max_exp = max_exp512_ps,
     gather = gather512_ps
 );
 vec_type!(
@@ -612,6 +665,7 @@ vec_type!(
     le = _mm512_cmp_pd_mask::<_CMP_LE_OQ>,
     eq = _mm512_cmp_pd_mask::<_CMP_EQ_OQ>,
     bits = u64,
+    max_exp = max_exp512_pd,
     gather = gather512_pd
 );
 
@@ -729,6 +783,58 @@ mod tests {
             }
         }
         xs.len()
+    }
+
+    /// `max_exp` of two non-negative values has the larger exponent field, a clear sign, and
+    /// all exponent bits set exactly when either operand's are (inf or NaN), lane by lane.
+    /// Every non-negative sample against every one a fixed stride away, for several strides.
+    fn max_exp_takes_the_larger_exponent<L: Lanes>(k: L::K) -> usize {
+        let xs: Vec<L::S> =
+            samples::<L::S>().into_iter().filter(|x| x.bits() >> (L::S::WIDTH - 1) == 0).collect();
+        let field = |x: L::S| x.bits() & L::S::EXP_MASK;
+        let mut checked = 0;
+        for stride in [0, 1, 3, 8, 61, 255, 1000, 4093] {
+            let ys: Vec<L::S> = (0..xs.len()).map(|i| xs[(i + stride) % xs.len()]).collect();
+            for (px, py) in xs.chunks(L::N).zip(ys.chunks(L::N)) {
+                let (mut bx, mut by) = ([L::S::ZERO; MAX_LANES], [L::S::ZERO; MAX_LANES]);
+                bx[..px.len()].copy_from_slice(px);
+                by[..py.len()].copy_from_slice(py);
+                let mut got = [L::S::ZERO; MAX_LANES];
+                L::load(k, &bx).max_exp(L::load(k, &by)).store(&mut got);
+                for l in 0..px.len() {
+                    let (x, y, g) = (px[l], py[l], got[l]);
+                    let what =
+                        format!("{} lanes, {:#x} and {:#x} gave {:#x}", L::N, x.bits(), y.bits(), g.bits());
+                    assert_eq!(field(g), field(x).max(field(y)), "{what}");
+                    assert_eq!(g.bits() >> (L::S::WIDTH - 1), 0, "sign set: {what}");
+                    checked += 1;
+                }
+            }
+        }
+        checked
+    }
+
+    #[test]
+    fn max_exp_takes_the_larger_exponent_on_every_lane_type() {
+        assert_eq!(max_exp_takes_the_larger_exponent::<f32>(Portable), 8 * 256 * 4);
+        assert_eq!(max_exp_takes_the_larger_exponent::<f64>(Portable), 8 * 2048 * 4);
+        if let Some(k) = Sse41::detect() {
+            max_exp_takes_the_larger_exponent::<F32x4<Sse41>>(k);
+            max_exp_takes_the_larger_exponent::<F64x2<Sse41>>(k);
+        }
+        #[cfg(feature = "avx")]
+        if let Some(k) = Avx::detect() {
+            max_exp_takes_the_larger_exponent::<F32x8<Avx>>(k);
+            max_exp_takes_the_larger_exponent::<F64x4<Avx>>(k);
+        }
+        if let Some(k) = Avx2Fma::detect() {
+            max_exp_takes_the_larger_exponent::<F32x8<Avx2Fma>>(k);
+            max_exp_takes_the_larger_exponent::<F64x4<Avx2Fma>>(k);
+        }
+        if let Some(k) = Avx512::detect() {
+            max_exp_takes_the_larger_exponent::<F32x16<Avx512>>(k);
+            max_exp_takes_the_larger_exponent::<F64x8<Avx512>>(k);
+        }
     }
 
     #[test]
