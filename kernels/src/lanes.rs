@@ -130,6 +130,10 @@ pub(crate) trait Lanes: Copy {
     /// reduces a pair's 18 coordinates with it to find their power of two and finiteness, on
     /// the path in front of every lane's arithmetic.
     fn max_exp(self, o: Self) -> Self;
+    /// Is [`Lanes::max_exp`] of finite operands their maximum itself (an integer maximum of
+    /// the whole bit patterns, or the floating-point maximum)? Then [`crate::algo::prescale`]
+    /// takes the magnitude from the same tree.
+    const MAX_EXP_EXACT: bool;
     /// `col[ix.at[l]]` in lane `l` (panics when an index is out of bounds): lane compaction. One
     /// load per lane through a buffer here; the AVX-512 types use the hardware gather. (AVX2's
     /// gather was tried for the 256-bit types: it halved the compacted stage's throughput on
@@ -360,6 +364,7 @@ macro_rules! scalar_lanes {
                 use crate::real::sealed::Sealed;
                 <$t>::from_bits64(!self.bits() & <$t>::EXP_MASK) * 0.5
             }
+            const MAX_EXP_EXACT: bool = true;
             #[inline(always)]
             fn max_exp(self, o: Self) -> Self {
                 use crate::real::sealed::Sealed;

@@ -193,7 +193,8 @@ mask_type!(
 );
 
 /// The helpers behind [`Lanes::max_exp`], one per vector type: the integer maximum of the bit
-/// patterns (of each 32-bit half below AVX-512, whose high half holds an f64's exponent).
+/// patterns (of each 32-bit half below AVX-512, whose high half holds an f64's exponent: the
+/// f64 forms there are not the maximum itself, `max_exp_exact = false`).
 /// Without AVX2 (the AVX variant) the 256-bit forms take the floating-point maximum and set
 /// every exponent bit of a lane where either operand is NaN (the maximum drops a NaN).
 ///
@@ -236,7 +237,8 @@ macro_rules! vec_type {
         add = $add:ident, sub = $sub:ident, mul = $mul:ident, div = $div:ident,
         min = $min:ident, max = $max:ident, sqrt = $sqrt:ident, and = $and:ident,
         andnot = $andnot:ident, blendv = $blendv:ident, fmadd = $fmadd:ident,
-        lt = $lt:expr, le = $le:expr, eq = $eq:expr, bits = $bits:ty, max_exp = $max_exp:ident
+        lt = $lt:expr, le = $le:expr, eq = $eq:expr, bits = $bits:ty,
+        max_exp = $max_exp:ident, max_exp_exact = $exact:expr
         $(, gather = $gather:ident)?
     ) => {
         #[derive(Clone, Copy)]
@@ -355,6 +357,7 @@ macro_rules! vec_type {
                 // SAFETY: `self.1` is a token: detection found the instruction set (module docs).
                 Self(unsafe { $mul($andnot(self.0, $set1(m)), $set1(0.5)) }, self.1)
             }
+            const MAX_EXP_EXACT: bool = $exact;
             #[inline(always)]
             fn max_exp(self, o: Self) -> Self {
                 // SAFETY: `self.1` is a token of `K`, whose instruction set `$max_exp` checks
@@ -400,7 +403,8 @@ vec_type!(
     le = _mm_cmple_ps,
     eq = _mm_cmpeq_ps,
     bits = u32,
-    max_exp = max_exp128_ps
+    max_exp = max_exp128_ps,
+    max_exp_exact = true
 );
 vec_type!(
     F64x2,
@@ -428,7 +432,8 @@ vec_type!(
     le = _mm_cmple_pd,
     eq = _mm_cmpeq_pd,
     bits = u64,
-    max_exp = max_exp128_pd
+    max_exp = max_exp128_pd,
+    max_exp_exact = false
 );
 vec_type!(
     F32x8,
@@ -456,7 +461,8 @@ vec_type!(
     le = _mm256_cmp_ps::<_CMP_LE_OQ>,
     eq = _mm256_cmp_ps::<_CMP_EQ_OQ>,
     bits = u32,
-    max_exp = max_exp256_ps
+    max_exp = max_exp256_ps,
+    max_exp_exact = true
 );
 vec_type!(
     F64x4,
@@ -484,7 +490,8 @@ vec_type!(
     le = _mm256_cmp_pd::<_CMP_LE_OQ>,
     eq = _mm256_cmp_pd::<_CMP_EQ_OQ>,
     bits = u64,
-    max_exp = max_exp256_pd
+    max_exp = max_exp256_pd,
+    max_exp_exact = false
 );
 
 /// An AVX-512 comparison mask: one bit per lane in a `__mmask16` / `__mmask8` (plain integer
@@ -637,6 +644,7 @@ vec_type!(
     eq = _mm512_cmp_ps_mask::<_CMP_EQ_OQ>,
     bits = u32,
     max_exp = max_exp512_ps,
+    max_exp_exact = true,
     gather = gather512_ps
 );
 vec_type!(
@@ -666,6 +674,7 @@ vec_type!(
     eq = _mm512_cmp_pd_mask::<_CMP_EQ_OQ>,
     bits = u64,
     max_exp = max_exp512_pd,
+    max_exp_exact = true,
     gather = gather512_pd
 );
 
@@ -786,7 +795,9 @@ mod tests {
     }
 
     /// `max_exp` of two non-negative values has the larger exponent field, a clear sign, and
-    /// all exponent bits set exactly when either operand's are (inf or NaN), lane by lane.
+    /// all exponent bits set exactly when either operand's are (inf or NaN), lane by lane; it
+    /// is the larger value itself for finite operands where the type says so
+    /// (`MAX_EXP_EXACT`).
     /// Every non-negative sample against every one a fixed stride away, for several strides.
     fn max_exp_takes_the_larger_exponent<L: Lanes>(k: L::K) -> usize {
         let xs: Vec<L::S> =
@@ -807,6 +818,10 @@ mod tests {
                         format!("{} lanes, {:#x} and {:#x} gave {:#x}", L::N, x.bits(), y.bits(), g.bits());
                     assert_eq!(field(g), field(x).max(field(y)), "{what}");
                     assert_eq!(g.bits() >> (L::S::WIDTH - 1), 0, "sign set: {what}");
+                    if L::MAX_EXP_EXACT && field(x) != L::S::EXP_MASK && field(y) != L::S::EXP_MASK {
+                        let max = if x.bits() > y.bits() { x } else { y };
+                        assert_eq!(g.bits(), max.bits(), "not the maximum: {what}");
+                    }
                     checked += 1;
                 }
             }
