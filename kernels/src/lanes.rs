@@ -461,10 +461,18 @@ impl<L: Lanes> V3<L> {
         // finite, and a subnormal direction scaled by 2^126 (2^1022) is exact too. Only the
         // largest exponent is read, so it is found by [`Lanes::max_exp`] (the candidates'
         // directions are on the quick stage's critical path).
-        let r = self.max_exp().max_exp(tiny).recip_exponent();
-        // two steps for subnormal input: 1/MIN_POSITIVE alone leaves it below 1
-        let v = self.scale(r);
-        v.scale(v.max_exp().max_exp(tiny).recip_exponent())
+        let m = self.max_exp();
+        let v = self.scale(m.max_exp(tiny).recip_exponent());
+        // A second step for subnormal input (1/MIN_POSITIVE alone leaves it below 1), taken
+        // only when a lane needs it: it scales a lane already in [1, 2) by exactly 1, so a
+        // lane's bits do not depend on its neighbours, and the usual case keeps it off the
+        // path of the candidates' directions (the quick stage's critical path).
+        // (0 stays 0 without it)
+        if m.lt(tiny).and(m.gt(k.splat(L::S::ZERO))).any() {
+            v.scale(v.max_exp().max_exp(tiny).recip_exponent())
+        } else {
+            v
+        }
     }
     /// A value with the exponent field of the largest absolute component ([`Lanes::max_exp`]).
     #[inline(always)]

@@ -759,7 +759,7 @@ mod avx512 {
 mod tests {
     use super::*;
     use crate::isa::Portable;
-    use crate::lanes::MAX_LANES;
+    use crate::lanes::{MAX_LANES, V3};
     use crate::real::sealed::Sealed;
     use crate::real::Real;
 
@@ -827,6 +827,68 @@ mod tests {
             }
         }
         checked
+    }
+
+    /// `V3::unit_pow2` gives every lane its largest component in [1, 2) (0 stays 0), bit for
+    /// bit the scalar answer, whatever the other lanes hold: finite samples of every exponent
+    /// (subnormals among them, which take the second step) mixed across lanes.
+    fn unit_pow2_is_lane_by_lane<L: Lanes>(k: L::K) -> usize
+    where
+        L::S: Lanes<S = L::S>,
+    {
+        let xs: Vec<L::S> =
+            samples::<L::S>().into_iter().filter(|x| x.bits() & L::S::EXP_MASK != L::S::EXP_MASK).collect();
+        let mut checked = 0;
+        for stride in [1, 7, 97] {
+            let comp = |i: usize, c: usize| xs[(i * stride + c) % xs.len()];
+            for base in (0..xs.len()).step_by(L::N) {
+                let mut buf = [[L::S::ZERO; MAX_LANES]; 3];
+                for l in 0..L::N {
+                    for (c, b) in buf.iter_mut().enumerate() {
+                        b[l] = comp(base + l, c);
+                    }
+                }
+                let v = V3::new(L::load(k, &buf[0]), L::load(k, &buf[1]), L::load(k, &buf[2])).unit_pow2();
+                let mut got = [[L::S::ZERO; MAX_LANES]; 3];
+                v.x.store(&mut got[0]);
+                v.y.store(&mut got[1]);
+                v.z.store(&mut got[2]);
+                for l in 0..L::N {
+                    let one = V3::new(buf[0][l], buf[1][l], buf[2][l]).unit_pow2();
+                    let want = [one.x, one.y, one.z];
+                    for c in 0..3 {
+                        assert_eq!(got[c][l].bits(), want[c].bits(), "{} lanes, lane {l} of {base}", L::N);
+                    }
+                    let absb = |x: L::S| L::S::from_bits64(x.bits() & !(1u64 << (L::S::WIDTH - 1)));
+                    let m = want.iter().fold(L::S::ZERO, |m, &x| if absb(x) > m { absb(x) } else { m });
+                    let all_zero = [buf[0][l], buf[1][l], buf[2][l]].iter().all(|&x| absb(x) == L::S::ZERO);
+                    assert!(
+                        all_zero || (m >= L::S::ONE && m < L::S::from_f64(2.0)),
+                        "{m:?} from lane {l} of {base}"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        checked
+    }
+
+    #[test]
+    fn unit_pow2_scales_each_lane_on_its_own() {
+        assert!(unit_pow2_is_lane_by_lane::<f32>(Portable) > 0);
+        assert!(unit_pow2_is_lane_by_lane::<f64>(Portable) > 0);
+        if let Some(k) = Sse41::detect() {
+            unit_pow2_is_lane_by_lane::<F32x4<Sse41>>(k);
+            unit_pow2_is_lane_by_lane::<F64x2<Sse41>>(k);
+        }
+        if let Some(k) = Avx2Fma::detect() {
+            unit_pow2_is_lane_by_lane::<F32x8<Avx2Fma>>(k);
+            unit_pow2_is_lane_by_lane::<F64x4<Avx2Fma>>(k);
+        }
+        if let Some(k) = Avx512::detect() {
+            unit_pow2_is_lane_by_lane::<F32x16<Avx512>>(k);
+            unit_pow2_is_lane_by_lane::<F64x8<Avx512>>(k);
+        }
     }
 
     #[test]
