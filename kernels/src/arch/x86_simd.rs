@@ -777,6 +777,30 @@ mod tests {
         out
     }
 
+    /// Runs `$check::<L>(token)` for every vector type whose instruction set this CPU has (each
+    /// test runs the scalar types itself, with the count it expects).
+    macro_rules! on_every_vector_type {
+        ($check:ident) => {
+            if let Some(k) = Sse41::detect() {
+                $check::<F32x4<Sse41>>(k);
+                $check::<F64x2<Sse41>>(k);
+            }
+            #[cfg(feature = "avx")]
+            if let Some(k) = Avx::detect() {
+                $check::<F32x8<Avx>>(k);
+                $check::<F64x4<Avx>>(k);
+            }
+            if let Some(k) = Avx2Fma::detect() {
+                $check::<F32x8<Avx2Fma>>(k);
+                $check::<F64x4<Avx2Fma>>(k);
+            }
+            if let Some(k) = Avx512::detect() {
+                $check::<F32x16<Avx512>>(k);
+                $check::<F64x8<Avx512>>(k);
+            }
+        };
+    }
+
     /// `recip_exponent` is `1 / exponent` bit for bit, lane by lane, for every input.
     fn recip_exponent_is_exact<L: Lanes>(k: L::K) -> usize {
         let xs = samples::<L::S>();
@@ -877,63 +901,20 @@ mod tests {
     fn unit_pow2_scales_each_lane_on_its_own() {
         assert!(unit_pow2_is_lane_by_lane::<f32>(Portable) > 0);
         assert!(unit_pow2_is_lane_by_lane::<f64>(Portable) > 0);
-        if let Some(k) = Sse41::detect() {
-            unit_pow2_is_lane_by_lane::<F32x4<Sse41>>(k);
-            unit_pow2_is_lane_by_lane::<F64x2<Sse41>>(k);
-        }
-        if let Some(k) = Avx2Fma::detect() {
-            unit_pow2_is_lane_by_lane::<F32x8<Avx2Fma>>(k);
-            unit_pow2_is_lane_by_lane::<F64x4<Avx2Fma>>(k);
-        }
-        if let Some(k) = Avx512::detect() {
-            unit_pow2_is_lane_by_lane::<F32x16<Avx512>>(k);
-            unit_pow2_is_lane_by_lane::<F64x8<Avx512>>(k);
-        }
+        on_every_vector_type!(unit_pow2_is_lane_by_lane);
     }
 
     #[test]
     fn max_exp_takes_the_larger_exponent_on_every_lane_type() {
         assert_eq!(max_exp_takes_the_larger_exponent::<f32>(Portable), 8 * 256 * 4);
         assert_eq!(max_exp_takes_the_larger_exponent::<f64>(Portable), 8 * 2048 * 4);
-        if let Some(k) = Sse41::detect() {
-            max_exp_takes_the_larger_exponent::<F32x4<Sse41>>(k);
-            max_exp_takes_the_larger_exponent::<F64x2<Sse41>>(k);
-        }
-        #[cfg(feature = "avx")]
-        if let Some(k) = Avx::detect() {
-            max_exp_takes_the_larger_exponent::<F32x8<Avx>>(k);
-            max_exp_takes_the_larger_exponent::<F64x4<Avx>>(k);
-        }
-        if let Some(k) = Avx2Fma::detect() {
-            max_exp_takes_the_larger_exponent::<F32x8<Avx2Fma>>(k);
-            max_exp_takes_the_larger_exponent::<F64x4<Avx2Fma>>(k);
-        }
-        if let Some(k) = Avx512::detect() {
-            max_exp_takes_the_larger_exponent::<F32x16<Avx512>>(k);
-            max_exp_takes_the_larger_exponent::<F64x8<Avx512>>(k);
-        }
+        on_every_vector_type!(max_exp_takes_the_larger_exponent);
     }
 
     #[test]
     fn recip_exponent_is_the_exact_reciprocal_on_every_lane_type() {
         assert_eq!(recip_exponent_is_exact::<f32>(Portable), 256 * 8);
         assert_eq!(recip_exponent_is_exact::<f64>(Portable), 2048 * 8);
-        if let Some(k) = Sse41::detect() {
-            recip_exponent_is_exact::<F32x4<Sse41>>(k);
-            recip_exponent_is_exact::<F64x2<Sse41>>(k);
-        }
-        #[cfg(feature = "avx")]
-        if let Some(k) = Avx::detect() {
-            recip_exponent_is_exact::<F32x8<Avx>>(k);
-            recip_exponent_is_exact::<F64x4<Avx>>(k);
-        }
-        if let Some(k) = Avx2Fma::detect() {
-            recip_exponent_is_exact::<F32x8<Avx2Fma>>(k);
-            recip_exponent_is_exact::<F64x4<Avx2Fma>>(k);
-        }
-        if let Some(k) = Avx512::detect() {
-            recip_exponent_is_exact::<F32x16<Avx512>>(k);
-            recip_exponent_is_exact::<F64x8<Avx512>>(k);
-        }
+        on_every_vector_type!(recip_exponent_is_exact);
     }
 }
