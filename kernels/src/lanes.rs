@@ -468,7 +468,7 @@ impl<L: Lanes> V3<L> {
         // lane's bits do not depend on its neighbours, and the usual case keeps it off the
         // path of the candidates' directions (the quick stage's critical path).
         // (0 stays 0 without it)
-        if m.lt(tiny).and(m.gt(k.splat(L::S::ZERO))).any() {
+        if m.lt(tiny).and(m.gt(k.zero())).any() {
             v.scale(v.max_exp().max_exp(tiny).recip_exponent())
         } else {
             v
