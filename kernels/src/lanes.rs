@@ -422,6 +422,17 @@ impl<L: Lanes> V3<L> {
     pub fn norm2(self) -> L {
         self.dot(self)
     }
+    /// `|self|^2 + m`, `m` the smallest normal number, rounded as [`V3::dot`] rounds: never
+    /// below `|self|^2 (1 - 3u)` though squares underflow (each then off by at most half the
+    /// smallest subnormal, `m u`), so its square root bounds `|self|` for certificates at
+    /// every magnitude, exceeding it by at most `sqrt(m)` (2^-63 for `f32`). The same
+    /// operations as [`V3::norm2`], `m` added by the first product's multiply-add; the same
+    /// bits unless `|self|^2 < m / u`.
+    #[inline(always)]
+    pub fn norm2_up(self) -> L {
+        let m = Cx::of(self.x).splat(L::S::MIN_POSITIVE);
+        self.x.mul_add(self.x, self.y.mul_add(self.y, self.z.mul_add(self.z, m)))
+    }
     #[inline(always)]
     pub fn cross(self, o: Self) -> Self {
         V3::new(
