@@ -229,6 +229,52 @@ max_exp_fns!(
     max_exp512_pd, HasAvx512, __m512d, |a, b| _mm512_castsi512_pd(_mm512_max_epu64(_mm512_castpd_si512(a), _mm512_castpd_si512(b)));
 );
 
+/// The helpers behind [`Lanes::clamp01`], one per vector type: where the hardware has a
+/// signed integer minimum and maximum of the lane's width (32-bit lanes from SSE4.1 on, 256-bit
+/// ones with AVX2; 64-bit lanes with AVX-512), the clamp of the bit patterns, one cycle each
+/// where the floating-point forms take four on Intel cores (the edge pair's three clamps are
+/// on the quick stage's critical path). Non-negative floats order as their patterns, negative
+/// ones (sign bit set) as negative integers, so for every non-NaN input the result is the
+/// floating-point clamp's, bit for bit (`-0` and negatives give `+0`). The other forms take
+/// the floating-point clamp. (NaN never reaches a clamp: divisions are guarded.)
+///
+/// # Safety
+/// The CPU must run the instruction set of `K`'s token; the 256-bit forms use AVX2 only when
+/// `K::AVX2`.
+macro_rules! clamp_fns {
+    ($($name:ident, $cap:ident, $reg:ty, |$a:ident| $body:expr;)*) => {$(
+        #[inline(always)]
+        unsafe fn $name<K: $cap>($a: $reg) -> $reg {
+            // SAFETY: the caller holds a token of `K` (see the macro's docs).
+            unsafe { $body }
+        }
+    )*};
+}
+clamp_fns!(
+    clamp128_ps, HasSse41, __m128, |a| _mm_castsi128_ps(_mm_min_epi32(
+        _mm_max_epi32(_mm_castps_si128(a), _mm_setzero_si128()),
+        _mm_set1_epi32(1.0f32.to_bits() as i32)
+    ));
+    clamp128_pd, HasSse41, __m128d, |a| _mm_min_pd(_mm_max_pd(a, _mm_setzero_pd()), _mm_set1_pd(1.0));
+    clamp256_ps, HasAvx, __m256, |a| if K::AVX2 {
+        _mm256_castsi256_ps(_mm256_min_epi32(
+            _mm256_max_epi32(_mm256_castps_si256(a), _mm256_setzero_si256()),
+            _mm256_set1_epi32(1.0f32.to_bits() as i32),
+        ))
+    } else {
+        _mm256_min_ps(_mm256_max_ps(a, _mm256_setzero_ps()), _mm256_set1_ps(1.0))
+    };
+    clamp256_pd, HasAvx, __m256d, |a| _mm256_min_pd(_mm256_max_pd(a, _mm256_setzero_pd()), _mm256_set1_pd(1.0));
+    clamp512_ps, HasAvx512, __m512, |a| _mm512_castsi512_ps(_mm512_min_epi32(
+        _mm512_max_epi32(_mm512_castps_si512(a), _mm512_setzero_si512()),
+        _mm512_set1_epi32(1.0f32.to_bits() as i32)
+    ));
+    clamp512_pd, HasAvx512, __m512d, |a| _mm512_castsi512_pd(_mm512_min_epi64(
+        _mm512_max_epi64(_mm512_castpd_si512(a), _mm512_setzero_si512()),
+        _mm512_set1_epi64(1.0f64.to_bits() as i64)
+    ));
+);
+
 /// One vector type over a token `K: $cap`; `mul_add` is fused when `$fma` holds for `K`.
 macro_rules! vec_type {
     (
@@ -238,7 +284,7 @@ macro_rules! vec_type {
         min = $min:ident, max = $max:ident, sqrt = $sqrt:ident, and = $and:ident,
         andnot = $andnot:ident, blendv = $blendv:ident, fmadd = $fmadd:ident,
         lt = $lt:expr, le = $le:expr, eq = $eq:expr, bits = $bits:ty,
-        max_exp = $max_exp:ident, max_exp_exact = $exact:expr
+        max_exp = $max_exp:ident, max_exp_exact = $exact:expr, clamp01 = $clamp01:ident
         $(, gather = $gather:ident)?
     ) => {
         #[derive(Clone, Copy)]
@@ -364,6 +410,12 @@ macro_rules! vec_type {
                 // before using anything beyond it (module docs).
                 Self(unsafe { $max_exp::<K>(self.0, o.0) }, self.1)
             }
+            #[inline(always)]
+            fn clamp01(self) -> Self {
+                // SAFETY: `self.1` is a token of `K`, whose instruction set `$clamp01` checks
+                // before using anything beyond it (module docs).
+                Self(unsafe { $clamp01::<K>(self.0) }, self.1)
+            }
             $(
                 #[inline(always)]
                 fn gather(k: K, col: &[$s], ix: &GatherIx) -> Self {
@@ -404,7 +456,8 @@ vec_type!(
     eq = _mm_cmpeq_ps,
     bits = u32,
     max_exp = max_exp128_ps,
-    max_exp_exact = true
+    max_exp_exact = true,
+    clamp01 = clamp128_ps
 );
 vec_type!(
     F64x2,
@@ -433,7 +486,8 @@ vec_type!(
     eq = _mm_cmpeq_pd,
     bits = u64,
     max_exp = max_exp128_pd,
-    max_exp_exact = false
+    max_exp_exact = false,
+    clamp01 = clamp128_pd
 );
 vec_type!(
     F32x8,
@@ -462,7 +516,8 @@ vec_type!(
     eq = _mm256_cmp_ps::<_CMP_EQ_OQ>,
     bits = u32,
     max_exp = max_exp256_ps,
-    max_exp_exact = true
+    max_exp_exact = true,
+    clamp01 = clamp256_ps
 );
 vec_type!(
     F64x4,
@@ -491,7 +546,8 @@ vec_type!(
     eq = _mm256_cmp_pd::<_CMP_EQ_OQ>,
     bits = u64,
     max_exp = max_exp256_pd,
-    max_exp_exact = false
+    max_exp_exact = false,
+    clamp01 = clamp256_pd
 );
 
 /// An AVX-512 comparison mask: one bit per lane in a `__mmask16` / `__mmask8` (plain integer
@@ -645,6 +701,7 @@ vec_type!(
     bits = u32,
     max_exp = max_exp512_ps,
     max_exp_exact = true,
+    clamp01 = clamp512_ps,
     gather = gather512_ps
 );
 vec_type!(
@@ -675,6 +732,7 @@ vec_type!(
     bits = u64,
     max_exp = max_exp512_pd,
     max_exp_exact = true,
+    clamp01 = clamp512_pd,
     gather = gather512_pd
 );
 
@@ -909,6 +967,38 @@ mod tests {
         assert_eq!(max_exp_takes_the_larger_exponent::<f32>(Portable), 8 * 256 * 4);
         assert_eq!(max_exp_takes_the_larger_exponent::<f64>(Portable), 8 * 2048 * 4);
         on_every_vector_type!(max_exp_takes_the_larger_exponent);
+    }
+
+    /// `clamp01` of every non-NaN sample (every exponent, both signs, zeros, infinities) is
+    /// the clamp to [0, 1] bit for bit, `+0` for negatives and `-0`, lane by lane.
+    fn clamp01_is_the_clamp<L: Lanes>(k: L::K) -> usize {
+        let xs: Vec<L::S> = samples::<L::S>().into_iter().filter(|x| !x.is_nan()).collect();
+        for part in xs.chunks(L::N) {
+            let mut buf = [L::S::ZERO; MAX_LANES];
+            buf[..part.len()].copy_from_slice(part);
+            let mut got = [L::S::ZERO; MAX_LANES];
+            L::load(k, &buf).clamp01().store(&mut got);
+            for (l, &x) in part.iter().enumerate() {
+                let want = if x > L::S::ZERO {
+                    if x < L::S::ONE {
+                        x
+                    } else {
+                        L::S::ONE
+                    }
+                } else {
+                    L::S::ZERO
+                };
+                assert_eq!(got[l].bits(), want.bits(), "{} lanes, input {x:?}", L::N);
+            }
+        }
+        xs.len()
+    }
+
+    #[test]
+    fn clamp01_clamps_every_value_on_every_lane_type() {
+        assert_eq!(clamp01_is_the_clamp::<f32>(Portable), 256 * 8 - 6);
+        assert_eq!(clamp01_is_the_clamp::<f64>(Portable), 2048 * 8 - 6);
+        on_every_vector_type!(clamp01_is_the_clamp);
     }
 
     #[test]
