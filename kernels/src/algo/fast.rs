@@ -13,7 +13,8 @@
 //! one static error bound covers them all, and each carries the direction its optimality is
 //! certified along (the common normal of two edges, a face normal, or the witness). The
 //! certificate ([`FastOut`]) is computed once, at the end: `hi = |W| + 24 u R`,
-//! `lo = gap along v - 8 u R` (`R` the largest local vertex norm; see the constants).
+//! `lo = gap along v - 8 u R` (`R` the largest local vertex norm; see the constants and
+//! [`lower`]; `v` need not be unit, so the quick stage projects on `W` itself).
 //! Pairs whose interval is within the tolerance are done; the others are re-certified tightly
 //! and, if need be, recomputed by the accurate stage ([`super::pqp`]).
 //!
