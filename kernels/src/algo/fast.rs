@@ -472,7 +472,13 @@ fn extent<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> L {
     for x in t {
         r2 = r2.max(x.norm2_up());
     }
-    r2.sqrt().mul(k.one().add(k.u().mul(k.c(4.0))))
+    r2.sqrt().mul(up4(k))
+}
+
+/// `1 + 4u`: the factor that rounds the certificate's norms up.
+#[inline(always)]
+fn up4<L: Lanes>(k: Cx<L>) -> L {
+    k.one().add(k.u().mul(k.c(4.0)))
 }
 
 /// The gaps between the triangles' projections on `v`, as computed: `t` beyond `s` along `v`,
@@ -502,7 +508,7 @@ fn gaps<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], v: V3<L>) -> (L, L) {
 fn lower<L: Lanes>(gv: L, vn: L, rr: L) -> L {
     let k = Cx::of(gv);
     let u = k.u();
-    let c = u.mul(k.c(C_LO)).mul(k.one().add(u.mul(k.c(4.0)))).mul(rr);
+    let c = u.mul(k.c(C_LO)).mul(up4(k)).mul(rr);
     let lo = gv.mul_add(k.one().sub(u.mul(k.c(8.0))), c.neg()).max(k.zero());
     L::select(vn.ge(u.mul(u)), lo, k.zero())
 }
@@ -514,7 +520,7 @@ fn lower<L: Lanes>(gv: L, vn: L, rr: L) -> L {
 fn upper<L: Lanes>(wn: L, over: L, rr: L) -> L {
     let k = Cx::of(wn);
     let u = k.u();
-    wn.mul_add(k.one().add(u.mul(k.c(4.0))), u.mul(k.c(C_HI)).add(over.mul(k.c(2.0))).mul(rr))
+    wn.mul_add(up4(k), u.mul(k.c(C_HI)).add(over.mul(k.c(2.0))).mul(rr))
 }
 
 /// Rebuilds the winner of every lane from its code and parameters: the answer's squared
@@ -679,23 +685,19 @@ mod tests {
                         let d = [sign * (1.0 + rnd() / 4.0), rnd() * side, rnd() * side];
                         dir[l] = d.map(|x| L::S::from_f64(x * 2f64.powi(-m)));
                     }
-                    let col = |i: usize, c: usize| {
+                    // a vector of one value per lane
+                    let lanes = |f: &dyn Fn(usize) -> L::S| {
                         let mut b = [L::S::ZERO; 16];
-                        for l in 0..L::N {
-                            b[l] = pts[l][i][c];
+                        for (l, x) in b[..L::N].iter_mut().enumerate() {
+                            *x = f(l);
                         }
                         L::load(k, &b[..L::N])
                     };
-                    let vtx = |i: usize| V3::new(col(i, 0), col(i, 1), col(i, 2));
+                    let vtx = |i: usize| {
+                        V3::new(lanes(&|l| pts[l][i][0]), lanes(&|l| pts[l][i][1]), lanes(&|l| pts[l][i][2]))
+                    };
                     let (s, t) = ([vtx(0), vtx(1), vtx(2)], [vtx(3), vtx(4), vtx(5)]);
-                    let dc = |c: usize| {
-                        let mut b = [L::S::ZERO; 16];
-                        for l in 0..L::N {
-                            b[l] = dir[l][c];
-                        }
-                        L::load(k, &b[..L::N])
-                    };
-                    let v = V3::new(dc(0), dc(1), dc(2));
+                    let v = V3::new(lanes(&|l| dir[l][0]), lanes(&|l| dir[l][1]), lanes(&|l| dir[l][2]));
                     let (up, down) = gaps(&s, &t, v);
                     let (vn, rr) = (v.norm2_up().sqrt(), extent(&s, &t));
                     let lo = lower(up.max(down).div(vn), vn, rr);

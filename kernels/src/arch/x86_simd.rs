@@ -192,25 +192,29 @@ mask_type!(
     0xf
 );
 
-/// The helpers behind [`Lanes::max_exp`], one per vector type: the integer maximum of the bit
-/// patterns (of each 32-bit half below AVX-512, whose high half holds an f64's exponent: the
-/// f64 forms there are not the maximum itself, `max_exp_exact = false`).
-/// Without AVX2 (the AVX variant) the 256-bit forms take the floating-point maximum and set
-/// every exponent bit of a lane where either operand is NaN (the maximum drops a NaN).
+/// One `unsafe fn $name<K: $cap>(args: $reg...) -> $reg` per line, whose body runs under the
+/// token's instruction set: the per-vector-type helpers of [`Lanes::max_exp`] and
+/// [`Lanes::clamp01`] below.
 ///
 /// # Safety
 /// The CPU must run the instruction set of `K`'s token; the 256-bit forms use AVX2 only when
 /// `K::AVX2`.
-macro_rules! max_exp_fns {
-    ($($name:ident, $cap:ident, $reg:ty, |$a:ident, $b:ident| $body:expr;)*) => {$(
+macro_rules! lane_fns {
+    ($($name:ident, $cap:ident, $reg:ty, |$($a:ident),+| $body:expr;)*) => {$(
         #[inline(always)]
-        unsafe fn $name<K: $cap>($a: $reg, $b: $reg) -> $reg {
+        unsafe fn $name<K: $cap>($($a: $reg),+) -> $reg {
             // SAFETY: the caller holds a token of `K` (see the macro's docs).
             unsafe { $body }
         }
     )*};
 }
-max_exp_fns!(
+
+// The helpers behind [`Lanes::max_exp`], one per vector type: the integer maximum of the bit
+// patterns (of each 32-bit half below AVX-512, whose high half holds an f64's exponent: the
+// f64 forms there are not the maximum itself, `max_exp_exact = false`).
+// Without AVX2 (the AVX variant) the 256-bit forms take the floating-point maximum and set
+// every exponent bit of a lane where either operand is NaN (the maximum drops a NaN).
+lane_fns!(
     max_exp128_ps, HasSse41, __m128, |a, b| _mm_castsi128_ps(_mm_max_epu32(_mm_castps_si128(a), _mm_castps_si128(b)));
     max_exp128_pd, HasSse41, __m128d, |a, b| _mm_castsi128_pd(_mm_max_epu32(_mm_castpd_si128(a), _mm_castpd_si128(b)));
     max_exp256_ps, HasAvx, __m256, |a, b| if K::AVX2 {
@@ -229,28 +233,16 @@ max_exp_fns!(
     max_exp512_pd, HasAvx512, __m512d, |a, b| _mm512_castsi512_pd(_mm512_max_epu64(_mm512_castpd_si512(a), _mm512_castpd_si512(b)));
 );
 
-/// The helpers behind [`Lanes::clamp01`], one per vector type: where the hardware has a
-/// signed integer minimum and maximum of the lane's width (32-bit lanes from SSE4.1 on, 256-bit
-/// ones with AVX2; 64-bit lanes with AVX-512), the clamp of the bit patterns, one cycle each
-/// where the floating-point forms take four on Intel cores (the edge pair's three clamps are
-/// on the quick stage's critical path). Non-negative floats order as their patterns, negative
-/// ones (sign bit set) as negative integers, so for every non-NaN input the result is the
-/// floating-point clamp's, bit for bit (`-0` and negatives give `+0`). The other forms take
-/// the floating-point clamp. (NaN never reaches a clamp: divisions are guarded.)
-///
-/// # Safety
-/// The CPU must run the instruction set of `K`'s token; the 256-bit forms use AVX2 only when
-/// `K::AVX2`.
-macro_rules! clamp_fns {
-    ($($name:ident, $cap:ident, $reg:ty, |$a:ident| $body:expr;)*) => {$(
-        #[inline(always)]
-        unsafe fn $name<K: $cap>($a: $reg) -> $reg {
-            // SAFETY: the caller holds a token of `K` (see the macro's docs).
-            unsafe { $body }
-        }
-    )*};
-}
-clamp_fns!(
+// The helpers behind [`Lanes::clamp01`], one per vector type: where the hardware has a
+// signed integer minimum and maximum of the lane's width (32-bit lanes from SSE4.1 on, 256-bit
+// ones with AVX2; 64-bit lanes with AVX-512), the clamp of the bit patterns (one cycle each
+// where the floating-point forms take four on Intel cores, by published instruction tables;
+// the edge pair's three clamps are on the quick stage's critical path). Non-negative floats
+// order as their patterns, negative ones (sign bit set) as negative integers, so for every
+// non-NaN input the result is the floating-point clamp's, bit for bit (`-0` and negatives
+// give `+0`). The other forms take the floating-point clamp. (NaN never reaches a clamp:
+// divisions are guarded.)
+lane_fns!(
     clamp128_ps, HasSse41, __m128, |a| _mm_castsi128_ps(_mm_min_epi32(
         _mm_max_epi32(_mm_castps_si128(a), _mm_setzero_si128()),
         _mm_set1_epi32(1.0f32.to_bits() as i32)
