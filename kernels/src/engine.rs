@@ -297,6 +297,14 @@ pub struct Engine {
 /// `avx`, `avx2fma`, `avx512`), for tests and benchmarks. Read once per process.
 pub const ISA_ENV: &str = "TRIDIST_ISA";
 
+/// Pieces of a split batch are multiples of this many pairs (a multiple of the SoA padding
+/// and of the driver's chunk): each piece costs a lock, an entry point's set-up and its own
+/// open-pair lists, so on small batches fewer pieces win. 2 threads on 4000 nearby Armadillo
+/// pairs (pieces of 64, 256, 512 and 1024 pairs: 16 to 4 pieces a thread): 121-127,
+/// 136-139, 141-146 and 142-144 M/s; random pairs, 34-36 M/s at each of 256 to 1024 (`spin
+/// tri_tri arm_nearby|random f32 avx2fma 1 4000 2`, builds alternated, four or five rounds).
+const PIECE: usize = 512;
+
 /// Batches below this many pairs stay on the calling thread.
 const MIN_PARALLEL: usize = 2048;
 
@@ -583,7 +591,7 @@ impl Engine {
         }
         // Pieces of whole chunks, many per thread, so that a thread that finishes early (or a
         // helper that wakes late) takes work from the others.
-        let piece = (n.div_ceil(16 * self.threads)).div_ceil(crate::drv::CHUNK).max(1) * crate::drv::CHUNK;
+        let piece = (n.div_ceil(16 * self.threads)).div_ceil(PIECE).max(1) * PIECE;
         let mut jobs = Vec::with_capacity(n.div_ceil(piece));
         let (a, b, prm, query, widen, exact) = (job.a, job.b, job.prm, job.query, job.widen, job.exact);
         let mut sink = job.sink;
