@@ -1081,10 +1081,43 @@ fn update_readme(path: &Path, m: &Measured, mesh: &str) -> Result<(), String> {
             ratio(q(wl, bn, "f32"), q(wl, "scalar", "f32"))
         );
     }
+    if let Some(line) = threads_summary(&m.threads, bn) {
+        let _ = writeln!(s, "{line}");
+    }
     let _ = writeln!(s, "{mesh}");
     let _ = writeln!(s, "\n![throughput vs error](reports/tradeoff.svg)\n\nFull tables: [reports/ACCURACY.md](reports/ACCURACY.md), [reports/THROUGHPUT.md](reports/THROUGHPUT.md), [reports/TRADEOFF.md](reports/TRADEOFF.md), mesh queries against FCL and parry3d: [reports/MESH.md](reports/MESH.md).");
     let out = format!("{}{}{}", &text[..i], s, &text[j..]);
     std::fs::write(path, out).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The README's line on two threads: each workload's rows of the threads table as speed-ups
+/// over one thread, with the two independent workers' beside them; `None` without rows.
+fn threads_summary(rows: &[ThreadRow], variant: &str) -> Option<String> {
+    let mut parts = Vec::new();
+    for (wl, title) in [("random", "random unit-cube pairs"), ("arm_nearby", "nearby Armadillo triangles")] {
+        let each: Vec<String> = rows
+            .iter()
+            .filter(|r| r.workload == wl)
+            .map(|r| {
+                format!(
+                    "{} {} pairs {} (independent workers {})",
+                    r.precision,
+                    r.pairs,
+                    ratio(Some(r.two), Some(r.one)),
+                    ratio(Some(r.apart), Some(r.one))
+                )
+            })
+            .collect();
+        if !each.is_empty() {
+            parts.push(format!("{title}: {}", each.join(", ")));
+        }
+    }
+    (!parts.is_empty()).then(|| {
+        format!(
+            "- Triangle-triangle distance on two threads ({variant}, `Engine::threads(2)`), over one thread's speed on the same batch, and what two independent one-thread workers reach together at that moment: {}.",
+            parts.join("; ")
+        )
+    })
 }
 
 /// The public-bug set (scenes/tests/regressions/public_bugs.txt) judged like the families: the
@@ -1135,6 +1168,37 @@ fn public_bug_rows<T: Peer>(a: &mut String) {
             ours.map_or("-".into(), |(m, b)| mark(m, b)),
             peer(Lib::Parry),
             peer(Lib::Fcl)
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The README's threads line gives each row's two ratios, per workload in order, and
+    /// nothing without rows.
+    #[test]
+    fn the_threads_line_gives_both_ratios_of_every_row() {
+        let row = |workload, pairs, one, two, apart| ThreadRow {
+            workload,
+            precision: "f32",
+            pairs,
+            one,
+            two,
+            apart,
+        };
+        assert_eq!(threads_summary(&[], "avx2fma"), None);
+        let rows = [
+            row("arm_nearby", 4000, 100e6, 150e6, 190e6),
+            row("random", 4000, 20e6, 37e6, 38e6),
+            row("random", 65536, 18e6, 36e6, 35e6),
+        ];
+        let line = threads_summary(&rows, "avx512").expect("a line");
+        assert!(line.starts_with("- Triangle-triangle distance on two threads (avx512,"), "{line}");
+        assert!(
+            line.ends_with(": random unit-cube pairs: f32 4000 pairs 1.85x (independent workers 1.90x), f32 65536 pairs 2.00x (independent workers 1.94x); nearby Armadillo triangles: f32 4000 pairs 1.50x (independent workers 1.90x)."),
+            "{line}"
         );
     }
 }
