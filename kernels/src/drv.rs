@@ -312,9 +312,11 @@ impl<T: Real> Lane<T> {
 /// clearing fixed buffers than on its kernels. At the first open pair a list takes room for a
 /// whole chunk, kept for the rest of the batch ([`run`] clears and swaps two lists): grown by
 /// doubling, and made anew per chunk, the lists of random pairs (three quarters open after the
-/// quick stage) cost two threads about 30 % of their speed, in glibc's allocator and the
-/// kernel's locks (`spin tri_tri random f32 avx2fma 1 4000 2`: 24.0-25.4 M/s, now 35.3-35.7,
-/// against 17.9-19.0 on one thread; 32000 pairs: 24.0-27.6, now 32.2-34.3).
+/// quick stage) cost two threads about 30 % of their speed: glibc's allocator took 8 % of the
+/// calling thread's time and the kernel's locks (futex and scheduler) 5 %, against 1.5 % in
+/// all on one thread (`perf record` of `spin tri_tri random f32 avx2fma 2 32000 2`); `spin
+/// tri_tri random f32 avx2fma 1 4000 2`: 24.0-25.4 M/s, now 35.3-35.7, against 17.9-19.0 on
+/// one thread; 32000 pairs: 24.0-27.6, now 32.2-34.3.
 struct Pending<T> {
     idx: Vec<u32>,
     ans: Vec<[T; 7]>,
@@ -383,10 +385,7 @@ pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
     // lane as on gathered pairs, so a pair's answer does not depend on its neighbours either way.
     let direct = K::STAGES == 3 && !job.prm.quick;
     // The open pairs after a step and those still open after the next one: two lists for the
-    // whole batch, cleared and swapped, not allocated per chunk ([`Pending`]; with two
-    // threads, for the lists of random pairs, glibc's allocator took 8 % of the calling
-    // thread's time and the kernel's locks (futex and scheduler) 5 %, against 1.5 % in all on
-    // one thread: `perf record` of `spin tri_tri random f32 avx2fma 2 32000 2`).
+    // whole batch, cleared and swapped, not allocated per chunk (see [`Pending`]).
     let (mut open, mut still) = (Pending::new(), Pending::new());
     let mut start = 0;
     while start < n {

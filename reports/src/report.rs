@@ -1052,7 +1052,7 @@ fn update_readme(path: &Path, m: &Measured, mesh: &str) -> Result<(), String> {
         "- The penalty method (an approximation, default options): median E at most {} on every family.",
         fmt(pen_med)
     );
-    for (wl, title) in [("random", "random unit-cube pairs"), ("arm_nearby", "nearby Armadillo triangles")] {
+    for (wl, title) in README_WORKLOADS {
         let fcl = q(wl, "fcl", "f64");
         let ours: Vec<String> = shown_variants(bn)
             .iter()
@@ -1090,11 +1090,15 @@ fn update_readme(path: &Path, m: &Measured, mesh: &str) -> Result<(), String> {
     std::fs::write(path, out).map_err(|e| format!("{}: {e}", path.display()))
 }
 
+/// The workloads the README's results name, with their titles there.
+const README_WORKLOADS: [(&str, &str); 2] =
+    [("random", "random unit-cube pairs"), ("arm_nearby", "nearby Armadillo triangles")];
+
 /// The README's line on two threads: each workload's rows of the threads table as speed-ups
 /// over one thread, with the two independent workers' beside them; `None` without rows.
 fn threads_summary(rows: &[ThreadRow], variant: &str) -> Option<String> {
     let mut parts = Vec::new();
-    for (wl, title) in [("random", "random unit-cube pairs"), ("arm_nearby", "nearby Armadillo triangles")] {
+    for (wl, title) in README_WORKLOADS {
         let each: Vec<String> = rows
             .iter()
             .filter(|r| r.workload == wl)
