@@ -11,9 +11,9 @@ pub(crate) const PAD: usize = crate::lanes::MAX_LANES;
 /// A batch of primitives with `K` points each (1 = points, 2 = segments, 3 = triangles), stored
 /// as `3*K` padded coordinate columns (Shellshear & Ytterlid's "SIMD layout").
 ///
-/// Invariant: the column stride `cap` is a multiple of [`PAD`] and at least the length rounded up
-/// to a multiple of it, and the lanes from the length to that multiple repeat the last primitive,
-/// so every vector load of a query is in bounds and finite.
+/// Invariant: the column stride `cap` is a multiple of the widest vector (16 lanes) and at
+/// least the length rounded up to a multiple of it, and the lanes from the length to that
+/// multiple repeat the last primitive, so every vector load of a query is in bounds and finite.
 ///
 /// # Example
 /// ```

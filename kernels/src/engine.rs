@@ -297,18 +297,28 @@ pub struct Engine {
 /// `avx`, `avx2fma`, `avx512`), for tests and benchmarks. Read once per process.
 pub const ISA_ENV: &str = "TRIDIST_ISA";
 
-/// Pieces of a split batch are multiples of this many pairs (a multiple of the SoA padding
-/// and of the driver's chunk): each piece costs a lock, an entry point's set-up and its own
-/// open-pair lists, so on small batches fewer pieces win. 2 threads on 4000 nearby Armadillo
-/// pairs (pieces of 64, 256, 512 and 1024 pairs: 16 to 4 pieces a thread): 121-127,
-/// 136-139, 141-146 and 142-144 M/s; random pairs, 34-36 M/s at each of 256 to 1024 (`spin
-/// tri_tri arm_nearby|random f32 avx2fma 1 4000 2`, builds alternated, four or five rounds).
-const PIECE: usize = 512;
-
-/// Batches below this many pairs stay on the calling thread.
-const MIN_PARALLEL: usize = 2048;
-
 impl Engine {
+    /// Pieces of a batch split over threads ([`Engine::threads`]) are multiples of this many
+    /// pairs (a multiple of the SoA padding and of the driver's chunk): each piece costs a lock,
+    /// an entry point's set-up and its own open-pair lists, so on small batches fewer pieces
+    /// win. 2 threads on 4000 nearby Armadillo pairs (pieces of 64, 256, 512 and 1024 pairs: 16
+    /// to 4 pieces a thread): 121-127, 136-139, 141-146 and 142-144 M/s; random pairs, 34-36 M/s
+    /// at each of 256 to 1024 (`spin tri_tri arm_nearby|random f32 avx2fma 1 4000 2`, builds
+    /// alternated, four or five rounds).
+    pub const PIECE: usize = 512;
+
+    /// Batches below this many pairs stay on the calling thread whatever [`Engine::threads`]
+    /// says.
+    pub const MIN_PARALLEL: usize = 2048;
+
+    /// How long the calling thread of a split batch waits awake for the helpers' last pieces
+    /// before it sleeps (with the default `rayon` feature; without it the helpers are scoped
+    /// threads and it joins them at once). The helpers' last pieces (a sixteenth of a thread's
+    /// share each) end within it on batches of up to a few milliseconds, where a wake-up costs
+    /// most; a longer batch loses one wake-up against far more work; and a helper descheduled
+    /// by the system costs the caller no more than this much of its core.
+    pub const WAIT_AWAKE: std::time::Duration = std::time::Duration::from_micros(200);
+
     fn with_isa(isa: Isa) -> Engine {
         Engine {
             isa,
@@ -383,9 +393,10 @@ impl Engine {
     /// pieces that idle threads take from busy ones: the calling thread and `n - 1` helpers (a
     /// persistent rayon pool with the default `rayon` feature, std scoped threads without it).
     /// The caller takes pieces from the front of the batch and the helpers from the back, and
-    /// waits for the helpers' last pieces awake (yielding its core, at most 200 µs) before it
-    /// sleeps: a batch that takes tens of microseconds is not lost to waking threads.
-    /// Batches below 2048 pairs stay on the calling thread. Results are identical to the
+    /// waits for the helpers' last pieces awake (yielding its core, at most
+    /// [`Engine::WAIT_AWAKE`]) before it sleeps: a batch that takes tens of microseconds is not
+    /// lost to waking threads. Pieces are multiples of [`Engine::PIECE`] pairs; batches below
+    /// [`Engine::MIN_PARALLEL`] pairs stay on the calling thread. Results are identical to the
     /// single-threaded ones.
     ///
     /// # Example
@@ -585,13 +596,13 @@ impl Engine {
     /// Runs a validated job, split across threads when asked.
     fn exec<T: Real>(&self, mut job: Job<'_, T>) -> PathCounts {
         let n = job.n;
-        if self.threads <= 1 || n < MIN_PARALLEL {
+        if self.threads <= 1 || n < Engine::MIN_PARALLEL {
             T::run_job(self.isa, &mut job);
             return job.counts;
         }
         // Pieces of whole chunks, many per thread, so that a thread that finishes early (or a
         // helper that wakes late) takes work from the others.
-        let piece = (n.div_ceil(16 * self.threads)).div_ceil(PIECE).max(1) * PIECE;
+        let piece = (n.div_ceil(16 * self.threads)).div_ceil(Engine::PIECE).max(1) * Engine::PIECE;
         let mut jobs = Vec::with_capacity(n.div_ceil(piece));
         let (a, b, prm, query, widen, exact) = (job.a, job.b, job.prm, job.query, job.widen, job.exact);
         let mut sink = job.sink;
@@ -679,7 +690,7 @@ pub(crate) fn par_map_init<I: Sync, St, R: Send>(
 /// they finish. The helpers come from a persistent pool of `threads - 1` with the `rayon`
 /// feature, scoped threads started per call without it.
 ///
-/// Done with its share, the caller waits for the helpers awake ([`SPIN`], yielding its core
+/// Done with its share, the caller waits for the helpers awake ([`Engine::WAIT_AWAKE`], yielding its core
 /// to any thread that needs it) before the pool's own wait, which sleeps. Asleep, it needed
 /// waking when the last helper finished, and the helpers, idle meanwhile, had gone to sleep
 /// too by the time the next batch came: 2 threads answered 4000 nearby Armadillo pairs (30 µs
@@ -704,7 +715,7 @@ fn together(threads: usize, work: &(dyn Fn(bool) + Sync)) {
             }
             work(true);
             let t0 = std::time::Instant::now();
-            while done.load(Ordering::Acquire) < threads - 1 && t0.elapsed() < SPIN {
+            while done.load(Ordering::Acquire) < threads - 1 && t0.elapsed() < Engine::WAIT_AWAKE {
                 std::thread::yield_now();
             }
         });
@@ -717,14 +728,6 @@ fn together(threads: usize, work: &(dyn Fn(bool) + Sync)) {
         work(true);
     });
 }
-
-/// How long the caller of [`together`] waits awake for the helpers to finish before it sleeps.
-/// The helpers' last pieces (a sixteenth of a thread's share each) end within it on batches
-/// of up to a few milliseconds, where a wake-up costs most; a longer batch loses one wake-up
-/// against far more work; and a helper descheduled by the system costs the caller no more
-/// than this much of its core.
-#[cfg(feature = "rayon")]
-const SPIN: std::time::Duration = std::time::Duration::from_micros(200);
 
 /// A persistent pool per thread count, made on first use.
 #[cfg(feature = "rayon")]

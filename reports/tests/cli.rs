@@ -356,6 +356,16 @@ fn a_small_report_writes_parseable_files() {
     let thr = std::fs::read_to_string(dir.join("THROUGHPUT.md")).unwrap();
     let rows = section_rows(&thr, "## Threads");
     assert_eq!(rows.len(), 8, "{thr}");
+    // its paragraph states the engine's own splitting parameters, read from the library
+    let para = thr.split("## Threads").nth(1).and_then(|t| t.split("\n\n").nth(1)).unwrap();
+    let (min, piece) = (tridist::Engine::MIN_PARALLEL, tridist::Engine::PIECE);
+    assert!(
+        para.contains(&format!(
+            "batches of at least {min} pairs split into pieces of at least {piece} pairs"
+        )),
+        "{para}"
+    );
+    assert!(para.contains(&format!("(up to {} µs)", tridist::Engine::WAIT_AWAKE.as_micros())), "{para}");
     for c in &rows {
         assert!(c[3] == "64" || c[3] == "65536", "{c:?}");
         assert!(c[4..6].iter().all(|x| x.parse::<f64>().unwrap() > 0.0), "{c:?}");
