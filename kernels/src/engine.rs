@@ -397,7 +397,9 @@ impl Engine {
     /// [`Engine::WAIT_AWAKE`]) before it sleeps: a batch that takes tens of microseconds is not
     /// lost to waking threads. Pieces are multiples of [`Engine::PIECE`] pairs; batches below
     /// [`Engine::MIN_PARALLEL`] pairs stay on the calling thread. Results are identical to the
-    /// single-threaded ones.
+    /// single-threaded ones. A system that refuses to start the helpers (out of threads) gets
+    /// the batch answered on the threads it has, the calling thread at worst: no panic, the
+    /// same answers.
     ///
     /// # Example
     /// ```
@@ -688,10 +690,12 @@ pub(crate) fn par_map_init<I: Sync, St, R: Send>(
 /// Runs `work` on `threads` threads at once, the calling thread one of them (`work(true)`; the
 /// helpers run `work(false)`): it neither waits idle for the others to start nor sleeps while
 /// they finish. The helpers come from a persistent pool of `threads - 1` with the `rayon`
-/// feature, scoped threads started per call without it.
+/// feature, scoped threads started per call without it. Helpers the system refuses to start
+/// are left out: the threads that run take their pieces (the caller alone at worst), with the
+/// same answers, instead of a panic.
 ///
-/// Done with its share, the caller waits for the helpers awake ([`Engine::WAIT_AWAKE`], yielding its core
-/// to any thread that needs it) before the pool's own wait, which sleeps. Asleep, it needed
+/// Done with its share, the caller waits for the helpers awake ([`Engine::WAIT_AWAKE`],
+/// yielding its core to any thread that needs it) before the pool's own wait, which sleeps. Asleep, it needed
 /// waking when the last helper finished, and the helpers, idle meanwhile, had gone to sleep
 /// too by the time the next batch came: 2 threads answered 4000 nearby Armadillo pairs (30 µs
 /// batches) at 0.88-1.26x one thread's speed, 1.24-1.61x with the wait alone and 1.45-1.80x
@@ -706,7 +710,10 @@ fn together(threads: usize, work: &(dyn Fn(bool) + Sync)) {
         use std::sync::atomic::{AtomicUsize, Ordering};
         let done = AtomicUsize::new(0);
         let done = &done;
-        pool(threads - 1).in_place_scope(|s| {
+        let Some(pool) = pool(threads - 1) else {
+            return work(true);
+        };
+        pool.in_place_scope(|s| {
             for _ in 1..threads {
                 s.spawn(move |_| {
                     work(false);
@@ -723,31 +730,45 @@ fn together(threads: usize, work: &(dyn Fn(bool) + Sync)) {
     #[cfg(not(feature = "rayon"))]
     std::thread::scope(|s| {
         for _ in 1..threads {
-            s.spawn(|| work(false));
+            if refused() || std::thread::Builder::new().spawn_scoped(s, || work(false)).is_err() {
+                break;
+            }
         }
         work(true);
     });
 }
 
-/// A persistent pool per thread count, made on first use.
+/// Whether starting threads is refused, as a system out of threads would: in the unit tests,
+/// on request, to test that batches still complete; never otherwise.
+fn refused() -> bool {
+    #[cfg(test)]
+    return tests::REFUSE_THREADS.load(std::sync::atomic::Ordering::Relaxed);
+    #[cfg(not(test))]
+    false
+}
+
+/// A persistent pool per thread count, made on first use; `None` when the system refuses its
+/// threads (tried again at the next call).
 #[cfg(feature = "rayon")]
-fn pool(threads: usize) -> std::sync::Arc<rayon::ThreadPool> {
+fn pool(threads: usize) -> Option<std::sync::Arc<rayon::ThreadPool>> {
     use std::sync::{Arc, Mutex};
     type Pools = Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>>;
     static POOLS: OnceLock<Pools> = OnceLock::new();
+    if refused() {
+        return None;
+    }
     let mut pools = POOLS.get_or_init(|| Mutex::new(Vec::new())).lock().unwrap_or_else(|e| e.into_inner());
     if let Some((_, p)) = pools.iter().find(|(n, _)| *n == threads) {
-        return p.clone();
+        return Some(p.clone());
     }
-    let p = Arc::new(
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .thread_name(|i| format!("tridist-{i}"))
-            .build()
-            .unwrap_or_else(|e| panic!("cannot start {threads} threads: {e}")),
-    );
+    let p = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("tridist-{i}"))
+        .build()
+        .ok()?;
+    let p = Arc::new(p);
     pools.push((threads, p.clone()));
-    p
+    Some(p)
 }
 
 /// The typed batch methods: each is [`Engine::run`] with fixed outputs.
@@ -861,5 +882,35 @@ impl Engine {
         iters: &mut [u32],
     ) -> Result<PathCounts, Error> {
         self.penalty(options)?.run(Query::Penalty, a, b, Outputs::new().closest_points(out).iterations(iters))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    /// Set by [`a_system_out_of_threads_still_answers_every_pair`] only.
+    pub(super) static REFUSE_THREADS: AtomicBool = AtomicBool::new(false);
+
+    #[test]
+    fn a_system_out_of_threads_still_answers_every_pair() {
+        // triangles on a grid of heights, each pair a different distance apart
+        let n = 3 * Engine::MIN_PARALLEL + 77;
+        let tri = |z: f64, s: f64| [[0.0, 0.0, z], [s, 0.0, z], [0.0, s, z]];
+        let a: Vec<_> = (0..n).map(|i| tri(0.0, 1.0 + (i % 7) as f64)).collect();
+        let b: Vec<_> = (0..n).map(|i| tri(0.5 + (i % 13) as f64, 2.0)).collect();
+        let mut one = vec![f64::NAN; n];
+        Engine::auto().sqdist_triangle_triangle(&a, &b, &mut one).unwrap();
+        REFUSE_THREADS.store(true, Ordering::Relaxed);
+        let mut split = vec![f64::NAN; n];
+        let r = Engine::auto().threads(3).sqdist_triangle_triangle(&a, &b, &mut split);
+        REFUSE_THREADS.store(false, Ordering::Relaxed);
+        r.unwrap();
+        for i in 0..n {
+            let dz = 0.5 + (i % 13) as f64;
+            assert_eq!(one[i], dz * dz, "pair {i}");
+            assert_eq!(split[i].to_bits(), one[i].to_bits(), "pair {i}");
+        }
     }
 }
