@@ -10,8 +10,11 @@
 //! [`crate::Tolerance`]. Pruning never loses an answer: a node pair is skipped only when the
 //! bounding boxes (in f64, enlarged by the rounding of the motion) prove every triangle pair in
 //! it farther than the margin (contacts), apart (intersection), or farther than the smallest
-//! answer so far (distance; the search ends at an answer of 0). So the distance is within the
-//! tolerance of the exact minimum over all pairs of moved triangles, the contact set holds
+//! answer so far less a slack of `4 u S`, capped by the tolerance (distance; the search ends
+//! at an answer of 0; see [`MESH_DISTANCE_SLACK`]). So the distance is one pair's kernel
+//! answer, at most that slack above the smallest kernel answer over all pairs of moved
+//! triangles (and so within the tolerance plus the slack of their exact minimum), the contact
+//! set holds
 //! every pair within the margin (decided by the kernels as
 //! [`Engine::within_margin_triangle_triangle`] does), and intersection is the kernels' verdict
 //! on some pair or `None` when every pair is disjoint. The three queries share one traversal.
@@ -1032,6 +1035,9 @@ trait Search<T: Real> {
     fn best_first(&self) -> bool {
         false
     }
+    /// Called once the roots are moved, with the largest absolute coordinate of their boxes
+    /// (a bound of every moved coordinate).
+    fn start(&mut self, _mag: f64) {}
 }
 
 /// The node pairs waiting for a visit: a stack (depth first, the nearer child pair on top) or a
@@ -1197,6 +1203,7 @@ fn search<T: Real, S: Search<T>>(
         return Ok(());
     }
     let (mut sa, mut sb) = (Side::new(a, pa)?, Side::new(b, pb)?);
+    s.start(magnitude(&sa.aabb(0), &sb.aabb(0)));
     let stack = root_visit(e.isa(), &mut sa, &mut sb, s).into_iter().collect();
     walk(e, &mut sa, &mut sb, stack, s)
 }
@@ -1209,16 +1216,86 @@ fn check_finite<T: Real>(d: T) -> Result<(), Error> {
     }
 }
 
-/// [`Engine::mesh_distance`]: the smallest answer so far prunes.
+/// How far above the smallest answer so far [`Engine::mesh_distance`] still looks for a
+/// nearer pair, in units of `u S` (`u` the unit roundoff of the mesh's precision, `S` the
+/// largest moved coordinate of both meshes), at most the engine's tolerance width
+/// (`scaled u S` or `absolute`, the larger). The distance answered is at most this many `u S`
+/// above the smallest of the kernels' answers over all pairs.
+///
+/// With no slack, every pair whose bounds come within the rounding of the best answer had to
+/// be answered: where `u S` approaches the triangles' size (a mesh far from the origin), the
+/// pairs' distances tie within it and the search answered nearly every pair. Armadillo
+/// against fandisk moved 1e7, 1e8 and 1e9 along x in f32 took 41.7 ms, 4.3 s and over 20 s
+/// (0.4 ms at 1e6); with a slack of 1, 2, 4 and 8 `u S`, 13.4 / 3.0 / 0.17 / 0.17 ms at 1e7,
+/// 2.6 s / 1.0 s / 0.18 / 0.17 ms at 1e8 and, from 4 on, 0.19 ms at 1e9, every time with the
+/// same answer (`tridist mesh data/meshes/armadillo.off data/meshes/fandisk_large.off
+/// --pose-a 1e8,0,0 --precision f32`, a throwaway build reading the slack from the
+/// environment); with this constant, 0.19, 0.17 and 0.16 ms. In f64 the bounds' own
+/// rounding (that of the squared gaps and of the motion, in f64 too) is of the same order as
+/// `u S`, so there the slack helps less: at 1e16 even 8 did not bring the search below
+/// seconds, and with this constant 1e14 and 1e15 took 4.9 ms and 0.51 s (1e10: 0.84 ms).
+/// `tests::far_meshes_whose_pairs_tie_within_rounding_are_not_searched_pair_by_pair` counts
+/// the pairs answered.
+pub const MESH_DISTANCE_SLACK: f64 = 4.0;
+
+/// [`Engine::mesh_distance`]: the smallest answer so far, less the slack, prunes.
 struct Nearest<T> {
     best: Option<MeshDistance<T>>,
     best_d: f64,
     out: Vec<ClosestPoints<T>>,
+    /// The tolerance in use (it caps the slack).
+    tol: crate::Tolerance,
+    /// How much nearer than `best_d` a pair must be able to come to be visited.
+    slack: f64,
+    /// The squared distance beyond which node pairs are pruned: `(sqrt(best_d) - slack)^2`,
+    /// rounded up, at most `best_d`.
+    lim: f64,
+    /// Triangle pairs answered (for the tests).
+    answered: usize,
+}
+
+impl<T: Real> Nearest<T> {
+    fn new(tol: crate::Tolerance) -> Self {
+        Nearest {
+            best: None,
+            best_d: f64::INFINITY,
+            out: Vec::new(),
+            tol,
+            slack: 0.0,
+            lim: f64::INFINITY,
+            answered: 0,
+        }
+    }
+
+    /// The slack at magnitude `mag`: [`MESH_DISTANCE_SLACK`] `u S`, at most the tolerance's
+    /// width there (`scaled u S` or `absolute`, the larger; a relative tolerance alone allows
+    /// none), so that [`crate::Tolerance::EXACT`] keeps the exact minimum.
+    fn slack(tol: &crate::Tolerance, mag: f64) -> f64 {
+        let us = T::UNIT_ROUNDOFF.to_f64() * mag;
+        (MESH_DISTANCE_SLACK * us).min((tol.scaled * us).max(tol.absolute))
+    }
+}
+
+/// `(sqrt(d) - slack)^2` rounded up (each step rounded to nearest, then one step up), and 0
+/// where `slack` reaches `sqrt(d)`; `d` itself when that is smaller (or with no slack).
+fn less_slack(d: f64, slack: f64) -> f64 {
+    if slack <= 0.0 || !d.is_finite() {
+        return d;
+    }
+    let r = (d.sqrt().next_up() - slack).next_up();
+    if r <= 0.0 {
+        0.0
+    } else {
+        (r * r).next_up().min(d)
+    }
 }
 
 impl<T: Real> Search<T> for Nearest<T> {
     fn limit(&self, _bx: &Aabb, _by: &Aabb) -> f64 {
-        self.best_d
+        self.lim
+    }
+    fn start(&mut self, mag: f64) {
+        self.slack = Self::slack(&self.tol, mag);
     }
     fn eager(&self, overlap: bool) -> bool {
         // A leaf pair whose boxes overlap likely holds a touching pair, whose answer 0 ends
@@ -1236,6 +1313,7 @@ impl<T: Real> Search<T> for Nearest<T> {
         self.out.clear();
         self.out.resize(pend.ids.len(), ClosestPoints::default());
         e.closest_points_triangle_triangle(&pend.a, &pend.b, &mut self.out)?;
+        self.answered += pend.ids.len();
         for (cp, &(i, j)) in self.out.iter().zip(&pend.ids) {
             check_finite(cp.sqdist)?;
             let d = cp.sqdist.to_f64();
@@ -1257,6 +1335,7 @@ impl<T: Real> Search<T> for Nearest<T> {
                 });
             }
         }
+        self.lim = less_slack(self.best_d, self.slack);
         // nothing is nearer than touching: the search ends at the first batch that touches
         Ok(self.best_d == 0.0)
     }
@@ -1491,6 +1570,13 @@ impl Engine {
     /// points and the triangles that hold them (`None` when a mesh is empty). Touching or
     /// intersecting meshes give 0 (at some touching pair).
     ///
+    /// The answer is the kernels' answer for the pair it names, and its distance is at most
+    /// `min(4 u S, w)` above the smallest of the kernels' answers over all pairs (`S` the
+    /// largest moved coordinate of both meshes, `w` the tolerance's `scaled u S` or
+    /// `absolute`, the larger): the search does not refine within the coordinates' own
+    /// rounding, where far from the origin every pair may tie. [`crate::Tolerance::EXACT`]
+    /// leaves no slack.
+    ///
     /// # Errors
     /// [`Error::InvalidPose`] for a non-finite pose, [`Error::NonFiniteCoordinate`] when a
     /// moved coordinate overflows.
@@ -1501,7 +1587,7 @@ impl Engine {
         b: &Mesh<T>,
         pose_b: &Pose<T>,
     ) -> Result<Option<MeshDistance<T>>, Error> {
-        let mut s = Nearest { best: None, best_d: f64::INFINITY, out: Vec::new() };
+        let mut s = Nearest::new(self.current_tolerance());
         search(self, a, pose_a, b, pose_b, &mut s)?;
         Ok(s.best)
     }
@@ -2018,5 +2104,65 @@ mod tests {
         assert!(checked > 50_000, "only {checked} triangle pairs checked");
         assert!(overlapping > 100, "only {overlapping} overlapping node pairs");
         eprintln!("largest difference between instruction sets: {worst:e} S over {checked} triangle pairs ({overlapping} overlapping node pairs)");
+    }
+
+    /// A grid of `n x n` squares (two triangles each) of side `h` in the plane x = 0.
+    fn wall(n: u32, h: f32) -> super::Mesh<f32> {
+        let v = (0..=n).flat_map(|i| (0..=n).map(move |j| [0.0, i as f32 * h, j as f32 * h])).collect();
+        let at = |i: u32, j: u32| i * (n + 1) + j;
+        let t = (0..n)
+            .flat_map(|i| {
+                (0..n).flat_map(move |j| {
+                    [[at(i, j), at(i + 1, j), at(i, j + 1)], [at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]]
+                })
+            })
+            .collect();
+        super::Mesh::new(v, t).expect("mesh")
+    }
+
+    /// Two walls facing each other 1e8 apart in f32 (`u S` = 6, the walls 100 across): every
+    /// pair's distance ties within rounding. The distance search answers a few batches, not
+    /// every pair as it did with no slack (asserted too, as the cliff this guards against),
+    /// and its answer is at most the slack above the smallest of the kernels' answers over
+    /// all pairs, found by brute force.
+    #[test]
+    fn far_meshes_whose_pairs_tie_within_rounding_are_not_searched_pair_by_pair() {
+        use super::*;
+        let (a, b) = (wall(20, 5.0), wall(20, 5.0));
+        let (pa, pb) = (Pose::identity(), Pose::translation([1e8f32, 0.0, 0.0]));
+        let e = Engine::auto();
+        let all = a.len() * b.len();
+        let run = |tol: crate::Tolerance| {
+            let mut s = Nearest::<f32>::new(tol);
+            search(&e, &a, &pa, &b, &pb, &mut s).expect("search");
+            (s.best.expect("an answer"), s.answered, s.slack)
+        };
+        let (exact, every, none) = run(crate::Tolerance::EXACT);
+        assert_eq!(none, 0.0);
+        assert!(every > all / 2, "with no slack {every} of {all} pairs answered");
+        let (best, answered, slack) = run(e.current_tolerance());
+        assert!(answered < all / 100, "{answered} of {all} pairs answered");
+        // the slack is 4 u S: S = 1e8 + the walls' width (100), u = 2^-24
+        let want = 4.0 * (1e8 + 100.0) / 16_777_216.0;
+        assert!((slack - want).abs() < 1e-6 * want, "slack {slack}, not {want}");
+        // brute force over every pair of moved triangles
+        let ta: Vec<_> = (0..a.len()).map(|i| a.triangle_at(i, &pa)).collect();
+        let tb: Vec<_> = (0..b.len()).map(|j| b.triangle_at(j, &pb)).collect();
+        let (mut xa, mut xb) = (Vec::with_capacity(all), Vec::with_capacity(all));
+        for x in &ta {
+            for y in &tb {
+                xa.push(*x);
+                xb.push(*y);
+            }
+        }
+        let mut d = vec![0.0f32; all];
+        e.sqdist_triangle_triangle(&xa, &xb, &mut d).expect("brute force");
+        let min = d.iter().fold(f64::INFINITY, |m, &x| m.min(x as f64));
+        for m in [&best, &exact] {
+            let got = m.sqdist as f64;
+            assert_eq!(got, d[m.tri_a * b.len() + m.tri_b] as f64, "not its pair's answer");
+            assert!(got >= min && got.sqrt() <= min.sqrt() + slack, "{got} against {min}, slack {slack}");
+        }
+        assert_eq!(exact.sqdist as f64, min, "no slack: the smallest answer");
     }
 }
