@@ -1352,15 +1352,42 @@ impl<T: Real> Search<T> for Nearest<T> {
 struct Contacts<T> {
     margin: f64,
     tol: crate::Tolerance,
+    /// [`Engine::mesh_contacts`]'s cap: once `found` holds twice that many, it is cut to the
+    /// first `cap` of the contacts' order, whose last ([`Contacts::worst`]) then bounds the
+    /// search, so `found` stays below `2 cap` plus a batch however many pairs are in reach.
+    cap: Option<usize>,
+    /// The margin the search's limit reaches for: the margin, or less once the cap is full.
+    bound: f64,
+    /// The squared distance of the `cap`-th contact so far, once there are that many: no
+    /// pair farther can be among the first `cap`.
+    worst: Option<T>,
     found: Vec<Contact<T>>,
     d: Vec<T>,
     p: Vec<Point<T>>,
     q: Vec<Point<T>>,
 }
 
+impl<T: Real> Contacts<T> {
+    /// Keeps the first `cap` contacts found so far once there are twice that many.
+    fn cut(&mut self) {
+        let Some(cap) = self.cap else { return };
+        if self.found.len() < 2 * cap.max(1) {
+            return;
+        }
+        self.found = sorted(self.found.iter());
+        self.found.truncate(cap);
+        if let Some(last) = self.found.last() {
+            self.worst = Some(last.sqdist);
+            // node pairs beyond reach of the cap-th contact's distance cannot hold a contact
+            // ordered before it (rounded up: the limit must not cut a tie)
+            self.bound = self.bound.min(last.sqdist.to_f64().sqrt().next_up());
+        }
+    }
+}
+
 impl<T: Real> Search<T> for Contacts<T> {
     fn limit(&self, bx: &Aabb, by: &Aabb) -> f64 {
-        let r = reach::<T>(&self.tol, magnitude(bx, by), self.margin);
+        let r = reach::<T>(&self.tol, magnitude(bx, by), self.bound);
         r * r
     }
     fn flush(&mut self, e: &Engine, pend: &Pending<T>) -> Result<bool, Error> {
@@ -1380,9 +1407,10 @@ impl<T: Real> Search<T> for Contacts<T> {
         // (the threshold of within-margin, in the working precision)
         let m = T::from_f64(self.margin);
         let m2 = m * m;
+        let worst = self.worst.unwrap_or(m2);
         for k in 0..n {
             check_finite(self.d[k])?;
-            if self.d[k] <= m2 {
+            if self.d[k] <= m2 && self.d[k] <= worst {
                 let (i, j) = pend.ids[k];
                 self.found.push(Contact {
                     tri_a: i as usize,
@@ -1393,6 +1421,7 @@ impl<T: Real> Search<T> for Contacts<T> {
                 });
             }
         }
+        self.cut();
         Ok(false)
     }
 }
@@ -1594,7 +1623,9 @@ impl Engine {
 
     /// Every triangle pair of two meshes in their poses whose distance is at most `margin`
     /// (contact generation), each with its squared distance and closest points, ordered by
-    /// squared distance then triangle numbers; with `cap`, the first `cap` of that order.
+    /// squared distance then triangle numbers; with `cap`, the first `cap` of that order,
+    /// found in memory for about `2 cap` contacts however many pairs are within the margin
+    /// (the search narrows to the `cap`-th contact's distance once it has that many).
     ///
     /// Within the margin is decided as [`Engine::within_margin_triangle_triangle`] decides it
     /// (the full triangle-triangle answer, thresholded), pair by pair. With
@@ -1616,6 +1647,9 @@ impl Engine {
         let state = || Contacts {
             margin: margin.to_f64(),
             tol: e.current_tolerance(),
+            cap,
+            bound: margin.to_f64(),
+            worst: None,
             found: Vec::new(),
             d: Vec::new(),
             p: Vec::new(),
@@ -2164,5 +2198,48 @@ mod tests {
             assert!(got >= min && got.sqrt() <= min.sqrt() + slack, "{got} against {min}, slack {slack}");
         }
         assert_eq!(exact.sqdist as f64, min, "no slack: the smallest answer");
+    }
+
+    /// A capped contact query answers the first `cap` contacts of the uncapped one, on one
+    /// thread and two, with ties in distance (two parallel walls: many pairs at the same
+    /// distance) ordered by triangle numbers; and its search holds about `2 cap` contacts,
+    /// not every one in reach.
+    #[test]
+    fn capped_contacts_are_the_first_of_all_and_held_in_bounded_memory() {
+        use super::*;
+        let (a, b) = (wall(16, 1.0), wall(16, 1.0));
+        let (pa, pb) = (Pose::identity(), Pose::translation([0.5f32, 0.0, 0.0]));
+        let margin = 3.0f32;
+        for threads in [1, 2] {
+            let e = Engine::auto().threads(threads);
+            let all = e.mesh_contacts(&a, &pa, &b, &pb, margin, None).expect("contacts");
+            assert!(all.len() > 20_000, "{} contacts", all.len());
+            for cap in [0, 1, 7, 100, 1000, all.len(), all.len() + 5] {
+                let got = e.mesh_contacts(&a, &pa, &b, &pb, margin, Some(cap)).expect("capped");
+                assert_eq!(got[..], all[..cap.min(all.len())], "cap {cap} on {threads} threads");
+            }
+        }
+        // one thread's search state: the contacts held at the end
+        let e = Engine::auto().margin(margin as f64).expect("margin");
+        let held = |cap: Option<usize>| {
+            let m = margin as f64;
+            let mut s = Contacts {
+                margin: m,
+                tol: e.current_tolerance(),
+                cap,
+                bound: m,
+                worst: None,
+                found: Vec::new(),
+                d: Vec::new(),
+                p: Vec::new(),
+                q: Vec::new(),
+            };
+            search(&e, &a, &pa, &b, &pb, &mut s).expect("search");
+            s.found.len()
+        };
+        let (cap, batch) = (50, FLUSH + LEAF * LEAF);
+        let (capped, uncapped) = (held(Some(cap)), held(None));
+        assert!(capped < 2 * cap + batch, "{capped} contacts held for a cap of {cap}");
+        assert!(uncapped > 100 * capped, "{uncapped} against {capped}");
     }
 }

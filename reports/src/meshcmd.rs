@@ -29,6 +29,11 @@ pub struct MeshArgs {
     /// With --margin: print at most this many contacts (the closest first).
     #[arg(long, default_value_t = 10)]
     pub show: usize,
+    /// With --margin: keep at most this many contacts, the closest (the search then narrows
+    /// to the last one kept, so memory stays bounded whatever the margin); the count line
+    /// then says "N or more".
+    #[arg(long, default_value_t = 1_000_000)]
+    pub max_contacts: usize,
     /// The closest point of the second mesh to this point `x,y,z`.
     #[arg(long, value_parser = parse_point)]
     pub point: Option<[f64; 3]>,
@@ -122,8 +127,13 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
     outln!("intersection query: {:.3} ms", t0.elapsed().as_secs_f64() * 1e3);
     if let Some(m) = a.margin {
         let t0 = Instant::now();
-        let c = e.mesh_contacts(&ma, &pa, &mb, &pb, T::from_f64(m), None)?;
-        outln!("contacts within {m}: {} ({:.3} ms)", c.len(), t0.elapsed().as_secs_f64() * 1e3);
+        let c = e.mesh_contacts(&ma, &pa, &mb, &pb, T::from_f64(m), Some(a.max_contacts))?;
+        let ms = t0.elapsed().as_secs_f64() * 1e3;
+        if c.len() >= a.max_contacts {
+            outln!("contacts within {m}: {} or more (stopped at --max-contacts; {ms:.3} ms)", c.len());
+        } else {
+            outln!("contacts within {m}: {} ({ms:.3} ms)", c.len());
+        }
         for k in c.iter().take(a.show) {
             outln!("  {} {} {} | {} | {}", k.tri_a, k.tri_b, k.sqdist.to_f64().sqrt(), fmt3(k.p), fmt3(k.q));
         }

@@ -480,6 +480,14 @@ fn mesh_subcommand_answers_and_rejects_bad_input() {
         assert_eq!(n, 12, "{out}");
         assert!(out.contains("closest point of the second mesh: 4 0 0 at 1 "), "{out}");
     }
+    // --max-contacts keeps the closest: the three pairs at distance 2 of the 12, said as a floor
+    let (code, out, err) =
+        tridist(&["mesh", a, a, "--pose-b", "3,0,0", "--margin", "2.5", "--max-contacts", "3"], "");
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("contacts within 2.5: 3 or more (stopped at --max-contacts;"), "{out}");
+    let kept: Vec<&str> = out.lines().filter(|l| l.starts_with("  ")).collect();
+    assert_eq!(kept.len(), 3, "{out}");
+    assert!(kept.iter().all(|l| l.split_whitespace().nth(2) == Some("2")), "{out}");
     let (code, out, _) = tridist(&["mesh", a, a, "--pose-b", "0.25,0.25,0.25"], "");
     assert_eq!(code, 0);
     assert!(out.contains("intersect: yes"), "{out}");
