@@ -14,8 +14,7 @@
 //! at an answer of 0; see [`MESH_DISTANCE_SLACK`]). So the distance is one pair's kernel
 //! answer, at most that slack above the smallest kernel answer over all pairs of moved
 //! triangles (and so within the tolerance plus the slack of their exact minimum), the contact
-//! set holds
-//! every pair within the margin (decided by the kernels as
+//! set holds every pair within the margin (decided by the kernels as
 //! [`Engine::within_margin_triangle_triangle`] does), and intersection is the kernels' verdict
 //! on some pair or `None` when every pair is disjoint. The three queries share one traversal.
 //! The differential tests (`scenes/tests/mesh.rs`) check this against an exact brute force over all pairs.
