@@ -297,6 +297,9 @@ pub struct Engine {
 /// `avx`, `avx2fma`, `avx512`), for tests and benchmarks. Read once per process.
 pub const ISA_ENV: &str = "TRIDIST_ISA";
 
+// (checked when the crate compiles: pieces are whole chunks of the driver)
+const _: () = assert!(Engine::PIECE.is_multiple_of(crate::drv::CHUNK));
+
 impl Engine {
     /// Pieces of a batch split over threads ([`Engine::threads`]) are multiples of this many
     /// pairs (a multiple of the SoA padding and of the driver's chunk): each piece costs a lock,
@@ -695,8 +698,8 @@ pub(crate) fn par_map_init<I: Sync, St, R: Send>(
 /// same answers, instead of a panic.
 ///
 /// Done with its share, the caller waits for the helpers awake ([`Engine::WAIT_AWAKE`],
-/// yielding its core to any thread that needs it) before the pool's own wait, which sleeps. Asleep, it needed
-/// waking when the last helper finished, and the helpers, idle meanwhile, had gone to sleep
+/// yielding its core to any thread that needs it) before the pool's own wait, which sleeps.
+/// Asleep, it needed waking when the last helper finished, and the helpers, idle meanwhile, had gone to sleep
 /// too by the time the next batch came: 2 threads answered 4000 nearby Armadillo pairs (30 µs
 /// batches) at 0.88-1.26x one thread's speed, 1.24-1.61x with the wait alone and 1.45-1.80x
 /// with the two ends of [`run_pieces`] as well (`spin tri_tri arm_nearby f32 avx2fma 1 4000
@@ -895,7 +898,7 @@ mod tests {
 
     #[test]
     fn a_system_out_of_threads_still_answers_every_pair() {
-        // triangles on a grid of heights, each pair a different distance apart
+        // pairs of parallel triangles overlapping in plan, 13 heights apart: each distance exact
         let n = 3 * Engine::MIN_PARALLEL + 77;
         let tri = |z: f64, s: f64| [[0.0, 0.0, z], [s, 0.0, z], [0.0, s, z]];
         let a: Vec<_> = (0..n).map(|i| tri(0.0, 1.0 + (i % 7) as f64)).collect();

@@ -1355,7 +1355,8 @@ struct Contacts<T> {
     /// first `cap` of the contacts' order, whose last ([`Contacts::worst`]) then bounds the
     /// search, so `found` stays below `2 cap` plus a batch however many pairs are in reach.
     cap: Option<usize>,
-    /// The margin the search's limit reaches for: the margin, or less once the cap is full.
+    /// The margin the search's limit reaches for: the margin, or less once the cap is full
+    /// (derived from `worst` in [`Contacts::cut`] and kept: the limit runs per node pair).
     bound: f64,
     /// The squared distance of the `cap`-th contact so far, once there are that many: no
     /// pair farther can be among the first `cap`.
@@ -1367,6 +1368,20 @@ struct Contacts<T> {
 }
 
 impl<T: Real> Contacts<T> {
+    fn new(margin: f64, tol: crate::Tolerance, cap: Option<usize>) -> Self {
+        Contacts {
+            margin,
+            tol,
+            cap,
+            bound: margin,
+            worst: None,
+            found: Vec::new(),
+            d: Vec::new(),
+            p: Vec::new(),
+            q: Vec::new(),
+        }
+    }
+
     /// Keeps the first `cap` contacts found so far once there are twice that many.
     fn cut(&mut self) {
         let Some(cap) = self.cap else { return };
@@ -1634,9 +1649,8 @@ impl Engine {
     /// 1e5, 1e6 and 1e7 along x in f32, margin 0.1, took 6.3 ms, 170 ms and 16 s (`tridist
     /// mesh ... --pose-a 1e7,0,0 --pose-b 1e7,0,0 --margin 0.1 --precision f32`); a smaller
     /// [`crate::Tolerance::scaled`] narrows the reach (and sends more pairs to the kernels'
-    /// accurate stage). With
-    /// [`Engine::threads`] above 1 the traversal is split into pieces walked in parallel; the
-    /// answer is the same.
+    /// accurate stage). With [`Engine::threads`] above 1 the traversal is split into pieces
+    /// walked in parallel; the answer is the same.
     ///
     /// # Errors
     /// [`Error::InvalidMargin`], [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].
@@ -1650,17 +1664,7 @@ impl Engine {
         cap: Option<usize>,
     ) -> Result<Vec<Contact<T>>, Error> {
         let e = self.margin(margin.to_f64())?;
-        let state = || Contacts {
-            margin: margin.to_f64(),
-            tol: e.current_tolerance(),
-            cap,
-            bound: margin.to_f64(),
-            worst: None,
-            found: Vec::new(),
-            d: Vec::new(),
-            p: Vec::new(),
-            q: Vec::new(),
-        };
+        let state = || Contacts::new(margin.to_f64(), e.current_tolerance(), cap);
         let mut found = if self.thread_count() > 1 {
             contacts_threaded(&e, a, pose_a, b, pose_b, &state)?
         } else {
@@ -2228,18 +2232,7 @@ mod tests {
         // one thread's search state: the contacts held at the end
         let e = Engine::auto().margin(margin as f64).expect("margin");
         let held = |cap: Option<usize>| {
-            let m = margin as f64;
-            let mut s = Contacts {
-                margin: m,
-                tol: e.current_tolerance(),
-                cap,
-                bound: m,
-                worst: None,
-                found: Vec::new(),
-                d: Vec::new(),
-                p: Vec::new(),
-                q: Vec::new(),
-            };
+            let mut s = Contacts::<f32>::new(margin as f64, e.current_tolerance(), cap);
             search(&e, &a, &pa, &b, &pb, &mut s).expect("search");
             s.found.len()
         };
