@@ -324,7 +324,8 @@ mod tests {
     #[test]
     fn transforms_move_every_point_and_reject_bad_poses() {
         let src = Batch::<f64, 3>::from_slice(&[tri(0.0), tri(1.0), tri(2.0)]);
-        let pose = Pose::from_axis_angle([0.0, 0.0, 1.0], core::f64::consts::FRAC_PI_2, [1.0, 2.0, 3.0]);
+        let pose =
+            Pose::from_axis_angle([0.0, 0.0, 1.0], core::f64::consts::FRAC_PI_2, [1.0, 2.0, 3.0]).unwrap();
         let mut dst = Batch::default();
         dst.transform_from(&src, &pose).unwrap();
         for i in 0..3 {

@@ -47,6 +47,9 @@ pub enum Error {
     InvalidTolerance,
     /// A pose that is not finite (see [`crate::Pose`]).
     InvalidPose,
+    /// A rotation axis that is zero or not finite, or an angle that is not finite
+    /// ([`crate::Pose::from_axis_angle`]).
+    InvalidRotation,
     /// A tree width outside `2..=8` ([`crate::Mesh::with_width`]).
     InvalidTreeWidth(usize),
     /// A mesh vertex has a NaN or infinite coordinate ([`crate::Mesh::new`]).
@@ -97,6 +100,9 @@ impl core::fmt::Display for Error {
             ),
             Error::InvalidTolerance => write!(f, "tolerances must be non-negative (inf allowed), not NaN"),
             Error::InvalidPose => write!(f, "pose rotation and translation must be finite"),
+            Error::InvalidRotation => {
+                write!(f, "a rotation needs a finite, non-zero axis and a finite angle")
+            }
             Error::InvalidTreeWidth(w) => write!(f, "tree width {w}: a node has 2 to 8 children"),
             Error::NonFiniteVertex { vertex } => write!(f, "vertex {vertex} has a NaN or infinite coordinate"),
             Error::NonFiniteCoordinate => {

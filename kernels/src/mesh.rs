@@ -2005,10 +2005,11 @@ mod tests {
                 let axis = [rnd(), rnd(), rnd()];
                 let (angle, shift) = (7.0 * rnd(), [0, 1, 2].map(|_| size * rnd()));
                 let m64 = Mesh::with_width(v.clone(), t.clone(), w).expect("mesh");
-                checked += check_columns(&m64, &Pose::from_axis_angle(axis, angle, shift));
+                checked += check_columns(&m64, &Pose::from_axis_angle(axis, angle, shift).unwrap());
                 let v32: Vec<[f32; 3]> = v.iter().map(|p| p.map(|x| x as f32)).collect();
                 let m32 = Mesh::with_width(v32, t, w).expect("mesh");
-                let p32 = Pose::from_axis_angle(axis.map(|x| x as f32), angle, shift.map(|x| x as f32));
+                let p32 =
+                    Pose::from_axis_angle(axis.map(|x| x as f32), angle, shift.map(|x| x as f32)).unwrap();
                 checked += check_columns(&m32, &p32);
             }
         }
@@ -2060,8 +2061,8 @@ mod tests {
                 Mesh::with_width(v, t, w).expect("mesh")
             };
             let (a, b) = (mesh(wa), mesh(wb));
-            let pa = Pose::from_axis_angle([1.0, 2.0, 3.0], 0.7, [0.1 * size, 0.0, 0.0]);
-            let pb = Pose::from_axis_angle([-2.0, 0.5, 1.0], 2.1, [0.0, 0.2 * size, 0.0]);
+            let pa = Pose::from_axis_angle([1.0, 2.0, 3.0], 0.7, [0.1 * size, 0.0, 0.0]).unwrap();
+            let pb = Pose::from_axis_angle([-2.0, 0.5, 1.0], 2.1, [0.0, 0.2 * size, 0.0]).unwrap();
             let (mut sa, mut sb) = (Side::new(&a, &pa).expect("side"), Side::new(&b, &pb).expect("side"));
             let under = |m: &Mesh<f64>, pose: &Pose<f64>, i: u32| {
                 let (mut out, mut todo) = (Vec::new(), vec![i]);

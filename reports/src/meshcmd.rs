@@ -18,13 +18,13 @@ pub struct MeshArgs {
     pub b: PathBuf,
     /// Pose of the first mesh: `tx,ty,tz` or `tx,ty,tz,ax,ay,az,degrees` (translation, then
     /// rotation about the axis, applied first).
-    #[arg(long, value_parser = parse_pose, default_value = "0,0,0")]
+    #[arg(long, value_parser = parse_pose, default_value = "0,0,0", allow_hyphen_values = true)]
     pub pose_a: [f64; 7],
     /// Pose of the second mesh, as --pose-a.
-    #[arg(long, value_parser = parse_pose, default_value = "0,0,0")]
+    #[arg(long, value_parser = parse_pose, default_value = "0,0,0", allow_hyphen_values = true)]
     pub pose_b: [f64; 7],
-    /// Contacts: report the triangle pairs within this distance.
-    #[arg(long)]
+    /// Contacts: report the triangle pairs within this distance (finite, non-negative).
+    #[arg(long, value_parser = parse_margin, allow_hyphen_values = true)]
     pub margin: Option<f64>,
     /// With --margin: print at most this many contacts (the closest first).
     #[arg(long, default_value_t = 10)]
@@ -35,7 +35,7 @@ pub struct MeshArgs {
     #[arg(long, default_value_t = 1_000_000)]
     pub max_contacts: usize,
     /// The closest point of the second mesh to this point `x,y,z`.
-    #[arg(long, value_parser = parse_point)]
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     pub point: Option<[f64; 3]>,
     /// Working precision (the meshes are rounded to it).
     #[arg(long, value_enum, default_value = "f64")]
@@ -58,7 +58,12 @@ fn parse_pose(s: &str) -> Result<[f64; 7], String> {
     let v = parse_list(s)?;
     match v.len() {
         3 => Ok([v[0], v[1], v[2], 0.0, 0.0, 1.0, 0.0]),
-        7 => Ok([v[0], v[1], v[2], v[3], v[4], v[5], v[6]]),
+        7 => {
+            let p = [v[0], v[1], v[2], v[3], v[4], v[5], v[6]];
+            // a zero axis names no rotation: say so here, as a usage error
+            pose::<f64>(&p)?;
+            Ok(p)
+        }
         n => Err(format!("a pose is 3 or 7 numbers (tx,ty,tz[,ax,ay,az,degrees]), found {n}")),
     }
 }
@@ -68,13 +73,25 @@ fn parse_point(s: &str) -> Result<[f64; 3], String> {
     <[f64; 3]>::try_from(v.as_slice()).map_err(|_| format!("a point is 3 numbers x,y,z, found {}", v.len()))
 }
 
-fn pose<T: Real>(p: &[f64; 7]) -> Pose<T> {
+fn parse_margin(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(m) if m.is_finite() && m >= 0.0 => Ok(m),
+        Ok(_) => Err(format!("the margin must be finite and non-negative, not {s:?}")),
+        Err(e) => Err(format!("{e} in {s:?}")),
+    }
+}
+
+/// The pose in precision `T`. Its numbers are finite (`parse_list`), but in f32 a translation
+/// beyond f32's range is not.
+fn pose<T: Real>(p: &[f64; 7]) -> Result<Pose<T>, String> {
     let axis = [p[3], p[4], p[5]].map(T::from_f64);
     Pose::from_axis_angle(axis, p[6].to_radians(), [p[0], p[1], p[2]].map(T::from_f64))
+        .map_err(|e| format!("{e} (in {})", T::PRECISION.name()))
 }
 
 fn load<T: Real>(path: &std::path::Path) -> Result<Mesh<T>, Fail> {
-    let m = tridist_scenes::mesh::Mesh::load(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    // the loader's errors name the file
+    let m = tridist_scenes::mesh::Mesh::load(path).map_err(|e| Fail(e.to_string()))?;
     let v = m.vertices.iter().map(|p| p.map(T::from_f64)).collect();
     Mesh::new(v, m.triangles).map_err(|e| Fail(format!("{}: {e}", path.display())))
 }
@@ -98,7 +115,10 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
     let t0 = Instant::now();
     let (ma, mb) = (load::<T>(&a.a)?, load::<T>(&a.b)?);
     let build = t0.elapsed().as_secs_f64();
-    let (pa, pb) = (pose::<T>(&a.pose_a), pose::<T>(&a.pose_b));
+    let (pa, pb) = (
+        pose::<T>(&a.pose_a).map_err(|e| Fail(format!("--pose-a: {e}")))?,
+        pose::<T>(&a.pose_b).map_err(|e| Fail(format!("--pose-b: {e}")))?,
+    );
     outln!(
         "meshes: {} triangles ({} nodes), {} triangles ({} nodes); load and build {:.3} s; {} {}",
         ma.len(),

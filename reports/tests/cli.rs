@@ -441,8 +441,9 @@ fn closed_standard_output_ends_quietly() {
 }
 
 /// `tridist mesh` on two small OFF files: the distance of two unit tetrahedra 2 apart along x,
-/// an intersection once moved into each other, contacts, the closest point, and clear errors
-/// for a malformed file and a bad pose.
+/// an intersection once moved into each other, contacts, the closest point, negative numbers
+/// and axes of any length in poses, and clear errors for a malformed file, a bad pose (a zero
+/// axis, a translation beyond f32's range) and a bad margin.
 #[test]
 fn mesh_subcommand_answers_and_rejects_bad_input() {
     let d = tmp("mesh");
@@ -494,10 +495,43 @@ fn mesh_subcommand_answers_and_rejects_bad_input() {
     assert!(out.contains("distance: 0 "), "{out}");
     let (code, _, err) = tridist(&["mesh", a, bad.to_str().unwrap()], "");
     assert_eq!(code, 3, "{err}");
-    assert!(err.contains("bad.off") && err.contains("OFF"), "{err}");
+    assert!(err.matches("bad.off").count() == 1 && err.contains("OFF"), "{err}");
     let (code, _, err) = tridist(&["mesh", a, a, "--pose-b", "1,2"], "");
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("3 or 7 numbers"), "{err}");
     let (code, _, err) = tridist(&["mesh", a, "/nonexistent.off"], "");
     assert_eq!(code, 3, "{err}");
+    // negative numbers are values, not flags: the copy 3 below along x, its face x = 0 at
+    // -3 against the first's vertex (0, 0, 0)... and the point (-5, 0, 0) 2 from (-3, 0, 0)
+    let (code, out, err) = tridist(&["mesh", a, a, "--pose-b", "-3,0,0", "--point", "-5,0,0"], "");
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("distance: 2 "), "{out}");
+    assert!(out.contains("closest point of the second mesh: -3 0 0 at 2 "), "{out}");
+    // a rotation's axis of any length, a tiny one included: a quarter turn about x takes the
+    // copy's vertex (0, 1, 0) to (0, 0, 1), moved by 3 along z to (0, 0, 4); (0, 0, 5) is 1 away
+    for axis in ["1,0,0", "1e-200,0,0", "1e200,0,0"] {
+        let pose = format!("0,0,3,{axis},90");
+        let (code, out, err) = tridist(&["mesh", a, a, "--pose-b", &pose, "--point", "0,0,5"], "");
+        assert_eq!(code, 0, "{err}");
+        let line =
+            out.lines().find(|l| l.starts_with("closest point of the second mesh: ")).expect("a point line");
+        let at: Vec<f64> = line.split_whitespace().skip(6).take(3).map(|x| x.parse().unwrap()).collect();
+        assert!(at.iter().zip([0.0, 0.0, 4.0]).all(|(x, w)| (x - w).abs() < 1e-12), "{axis}: {out}");
+    }
+    // usage errors (exit 2) before any work: a zero axis, a negative, NaN or infinite margin
+    let (code, out, err) = tridist(&["mesh", a, a, "--pose-b", "0,0,3,0,0,0,90"], "");
+    assert_eq!(code, 2, "{err}");
+    assert!(out.is_empty() && err.contains("non-zero axis"), "{out}{err}");
+    for m in ["-1", "nan", "inf", "x"] {
+        let (code, out, err) = tridist(&["mesh", a, a, "--margin", m], "");
+        assert_eq!(code, 2, "{m}: {err}");
+        assert!(out.is_empty() && err.contains("--margin"), "{m}: {out}{err}");
+    }
+    // a translation beyond f32's range: an error in f32, an answer in f64
+    let (code, _, err) = tridist(&["mesh", a, a, "--pose-b", "1e39,0,0", "--precision", "f32"], "");
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("--pose-b") && err.contains("f32"), "{err}");
+    let (code, out, err) = tridist(&["mesh", a, a, "--pose-b", "1e39,0,0"], "");
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("intersect: no"), "{out}");
 }

@@ -110,7 +110,7 @@ pub fn plate(rng: &mut Rng, m: usize, jitter: f64) -> SceneMesh {
 }
 
 fn random_pose(rng: &mut Rng, t: [f64; 3]) -> Pose<f64> {
-    Pose::from_axis_angle(rng.dir(), rng.range(0.0, std::f64::consts::TAU), t)
+    Pose::from_axis_angle(rng.dir(), rng.range(0.0, std::f64::consts::TAU), t).expect("a unit axis")
 }
 
 /// Scene `index` of `family` (deterministic in `seed`). Blobs have `k` segments (about
@@ -144,7 +144,8 @@ pub fn scene(family: &'static str, seed: u64, index: u64, k: usize) -> MeshScene
                 [1.0, 0.0, 0.0],
                 tilt,
                 [rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), gap],
-            );
+            )
+            .expect("the x axis");
             (plate(&mut rng, k / 2, 0.0), plate(&mut rng, k / 2, 0.0), id, b_pose)
         }
         "touching" => {
@@ -573,7 +574,7 @@ pub fn fuzz_scene(data: &[u8]) -> Option<MeshScene> {
             f64::from(u16::arbitrary(u).ok()?) / 65536.0 * std::f64::consts::TAU
         };
         let t = <[i16; 3]>::arbitrary(u).ok()?.map(|x| f64::from(x) / 256.0 * scale / 64.0 + far);
-        Some(Pose::from_axis_angle(axis, angle, t))
+        Pose::from_axis_angle(axis, angle, t).ok()
     };
     let (pose_a, pose_b) = (pose(&mut u)?, pose(&mut u)?);
     Some(MeshScene { family: "fuzz", a, b, pose_a, pose_b })

@@ -249,7 +249,10 @@ pub fn trajectory_pose(k: usize, poses: usize) -> (([f64; 3], [f64; 3]), Pose<f6
     let angle = std::f64::consts::TAU * t;
     let n = 14f64.sqrt();
     let axis = [1.0 / n, 2.0 / n, 3.0 / n];
-    (([x, 0.0, 0.0], axis.map(|a| a * angle)), Pose::from_axis_angle(axis, angle, [x, 0.0, 0.0]))
+    (
+        ([x, 0.0, 0.0], axis.map(|a| a * angle)),
+        Pose::from_axis_angle(axis, angle, [x, 0.0, 0.0]).expect("a unit axis"),
+    )
 }
 
 /// The gap of the mesh report's near-contact placements ([`near_contact_pose`]): 0.05 % of
@@ -285,7 +288,7 @@ pub fn near_contact_pose(
     let e = tridist::Engine::auto();
     let mut rng = Rng::new(seed ^ 0x6e65_6172 ^ k);
     let (axis, angle, dir) = (rng.dir(), rng.range(0.0, std::f64::consts::TAU), rng.dir());
-    let at = |t: f64| Pose::from_axis_angle(axis, angle, dir.map(|c| c * t));
+    let at = |t: f64| Pose::from_axis_angle(axis, angle, dir.map(|c| c * t)).expect("a unit axis");
     // both meshes lie in [-1, 1]^3: 4 units apart they are separated in any direction
     let (mut lo, mut hi) = (0.0, 4.0);
     for _ in 0..48 {
