@@ -104,10 +104,10 @@ enum Cmd {
     /// meets an absolute distance tolerance at coordinate magnitude S, from throughput.csv.
     Advise {
         /// Largest absolute coordinate S of the scene.
-        #[arg(long, value_parser = positive)]
+        #[arg(long, value_parser = positive, allow_hyphen_values = true)]
         scale: f64,
         /// Largest acceptable distance error, in the scene's units.
-        #[arg(long, value_parser = positive)]
+        #[arg(long, value_parser = positive, allow_hyphen_values = true)]
         tolerance: f64,
         /// The query (registry name).
         #[arg(long, default_value = "tri_tri", value_parser = parse_query)]
@@ -146,13 +146,13 @@ struct KernelArgs {
     #[arg(long, default_value_t = 1)]
     threads: usize,
     /// Margin of the within-margin query (required for it).
-    #[arg(long, value_parser = non_negative)]
+    #[arg(long, value_parser = non_negative, allow_hyphen_values = true)]
     margin: Option<f64>,
     /// Penalty method: iteration limit.
     #[arg(long, value_name = "N")]
     penalty_iters: Option<u32>,
     /// Penalty method: stop when the step is below this times S.
-    #[arg(long, value_name = "X", value_parser = positive)]
+    #[arg(long, value_name = "X", value_parser = positive, allow_hyphen_values = true)]
     penalty_tol: Option<f64>,
 }
 

@@ -157,6 +157,17 @@ fn usage_errors_exit_2_with_the_usage_and_runtime_errors_exit_3_without() {
         );
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
+    // a negative number is a value the option rejects, not an unknown flag
+    for args in [
+        &["advise", "--scale", "-1", "--tolerance", "1"][..],
+        &["advise", "--scale", "1", "--tolerance", "-1e-3"],
+        &["eval", "--kernel", "within", "--margin", "-0.5"],
+        &["eval", "--kernel", "penalty", "--penalty-tol", "-1"],
+    ] {
+        let (code, _, err) = tridist(args, "");
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains("invalid value '-") && !err.contains("unexpected argument"), "{args:?}: {err}");
+    }
     let (code, _, err) = tridist(&[], "");
     assert_eq!(code, 2);
     assert!(err.contains("Usage: tridist <COMMAND>") && err.contains("Exit status"), "{err}");
