@@ -106,7 +106,10 @@ pub use batch::{Batch, PointBatch, SegmentBatch, TriangleBatch};
 pub use engine::{Engine, Outputs, PenaltyOptions, Prims, Tolerance, ISA_ENV};
 pub use error::Error;
 pub use isa::Isa;
-pub use mesh::{Contact, Mesh, MeshDistance, MeshPoint, DEFAULT_WIDTH, MAX_WIDTH, MESH_DISTANCE_SLACK};
+pub use mesh::{
+    Contact, Mesh, MeshDistance, MeshPoint, DEFAULT_WIDTH, MAX_WIDTH, MESH_DISTANCE_SLACK,
+    MESH_DISTANCE_WIDEN_AFTER,
+};
 pub use pose::{AsPoint, Pose};
 pub use query::Query;
 pub use real::{Precision, Real};

@@ -10,7 +10,8 @@
 //! [`crate::Tolerance`]. Pruning never loses an answer: a node pair is skipped only when the
 //! bounding boxes (in f64, enlarged by the rounding of the motion) prove every triangle pair in
 //! it farther than the margin (contacts), apart (intersection), or farther than the smallest
-//! answer so far less a slack of `4 u S`, capped by the tolerance (distance; the search ends
+//! answer so far less a slack of `4 u S`, capped by the tolerance, and widened to the
+//! tolerance's width after [`MESH_DISTANCE_WIDEN_AFTER`] pairs (distance; the search ends
 //! at an answer of 0; see [`MESH_DISTANCE_SLACK`]). So the distance is one pair's kernel
 //! answer, at most that slack above the smallest kernel answer over all pairs of moved
 //! triangles (and so within the tolerance plus the slack of their exact minimum), the contact
@@ -1252,13 +1253,26 @@ fn check_finite<T: Real>(d: T) -> Result<(), Error> {
 /// 2.6 s / 1.0 s / 0.18 / 0.17 ms at 1e8 and, from 4 on, 0.19 ms at 1e9, every time with the
 /// same answer (`tridist mesh data/meshes/armadillo.off data/meshes/fandisk_large.off
 /// --pose-a 1e8,0,0 --precision f32`, a throwaway build reading the slack from the
-/// environment); with this constant, 0.19, 0.17 and 0.16 ms. In f64 the bounds' own
-/// rounding (that of the squared gaps and of the motion, in f64 too) is of the same order as
-/// `u S`, so there the slack helps less: at 1e16 even 8 did not bring the search below
-/// seconds, and with this constant 1e14 and 1e15 took 4.9 ms and 0.51 s (1e10: 0.84 ms).
+/// environment); with this constant, 0.19, 0.17 and 0.16 ms.
 /// `tests::far_meshes_whose_pairs_tie_within_rounding_are_not_searched_pair_by_pair` counts
 /// the pairs answered.
+///
+/// In f64 the bounds' own rounding (of the motion and the squared gaps, computed in f64 too)
+/// exceeds this slack: f64 meshes far apart compared with their size, whose pairs all lie at
+/// nearly the same distance, could not be pruned, and the search answered nearly every pair
+/// (the same command in f64: 0.58 s at 1e15, 16.7 s at 1e16, over 20 s from 1e18 on; with a
+/// slack of 16 `u S` from the start, 0.32 s and 9.9 s; with 64, 0.22, 0.24 and 0.21 ms;
+/// with the widening below, 7.4, 7.6 and 11.8 ms, the same answers). So once a search
+/// has answered [`MESH_DISTANCE_WIDEN_AFTER`] pairs, or as many as both meshes have triangles
+/// if that is more, without finishing, its slack widens to the tolerance's width (64 `u S`
+/// by default): the distance is then at most that width above the smallest kernel answer.
+/// The report's poses answer at most 3,571 pairs.
 pub const MESH_DISTANCE_SLACK: f64 = 4.0;
+
+/// How many triangle pairs [`Engine::mesh_distance`] answers (at least; or as many as both
+/// meshes have triangles, if that is more) before its slack widens from
+/// [`MESH_DISTANCE_SLACK`] `u S` to the tolerance's width.
+pub const MESH_DISTANCE_WIDEN_AFTER: usize = 1 << 16;
 
 /// [`Engine::mesh_distance`]: the smallest answer so far, less the slack, prunes.
 struct Nearest<T> {
@@ -1269,6 +1283,10 @@ struct Nearest<T> {
     tol: crate::Tolerance,
     /// How much nearer than `best_d` a pair must be able to come to be visited.
     slack: f64,
+    /// The slack once `widen_after` pairs are answered: the tolerance's width.
+    wide: f64,
+    /// [`MESH_DISTANCE_WIDEN_AFTER`], or the meshes' triangles if more.
+    widen_after: usize,
     /// The squared distance beyond which node pairs are pruned: `(sqrt(best_d) - slack)^2`,
     /// rounded up, at most `best_d`.
     lim: f64,
@@ -1284,6 +1302,8 @@ impl<T: Real> Nearest<T> {
             out: Vec::new(),
             tol,
             slack: 0.0,
+            wide: 0.0,
+            widen_after: usize::MAX,
             lim: f64::INFINITY,
             answered: 0,
         }
@@ -1293,8 +1313,12 @@ impl<T: Real> Nearest<T> {
     /// width there (`scaled u S` or `absolute`, the larger; a relative tolerance alone allows
     /// none), so that [`crate::Tolerance::EXACT`] keeps the exact minimum.
     fn slack(tol: &crate::Tolerance, mag: f64) -> f64 {
-        let us = T::UNIT_ROUNDOFF.to_f64() * mag;
-        (MESH_DISTANCE_SLACK * us).min((tol.scaled * us).max(tol.absolute))
+        (MESH_DISTANCE_SLACK * T::UNIT_ROUNDOFF.to_f64() * mag).min(Self::width(tol, mag))
+    }
+
+    /// The tolerance's width at magnitude `mag` (`scaled u S` or `absolute`, the larger).
+    fn width(tol: &crate::Tolerance, mag: f64) -> f64 {
+        (tol.scaled * T::UNIT_ROUNDOFF.to_f64() * mag).max(tol.absolute)
     }
 }
 
@@ -1318,6 +1342,7 @@ impl<T: Real> Search<T> for Nearest<T> {
     }
     fn start(&mut self, mag: f64) {
         self.slack = Self::slack(&self.tol, mag);
+        self.wide = Self::width(&self.tol, mag);
     }
     fn eager(&self, overlap: bool) -> bool {
         // A leaf pair whose boxes overlap likely holds a touching pair, whose answer 0 ends
@@ -1356,6 +1381,9 @@ impl<T: Real> Search<T> for Nearest<T> {
                     tri_b: j as usize,
                 });
             }
+        }
+        if self.answered >= self.widen_after {
+            self.slack = self.wide;
         }
         self.lim = less_slack(self.best_d, self.slack);
         // nothing is nearer than touching: the search ends at the first batch that touches
@@ -1654,8 +1682,10 @@ impl Engine {
     /// `min(4 u S, w)` above the smallest of the kernels' answers over all pairs (`S` the
     /// largest moved coordinate of both meshes, `w` the tolerance's `scaled u S` or
     /// `absolute`, the larger): the search does not refine within the coordinates' own
-    /// rounding, where far from the origin every pair may tie. [`crate::Tolerance::EXACT`]
-    /// leaves no slack.
+    /// rounding, where far from the origin every pair may tie. A search that has answered
+    /// [`MESH_DISTANCE_WIDEN_AFTER`] pairs (or as many as both meshes have triangles, if more)
+    /// without finishing allows `w` instead (f64 meshes far apart compared with their size:
+    /// see [`MESH_DISTANCE_SLACK`]). [`crate::Tolerance::EXACT`] leaves no slack.
     ///
     /// # Errors
     /// [`Error::InvalidPose`] for a non-finite pose, [`Error::NonFiniteCoordinate`] when a
@@ -1668,6 +1698,7 @@ impl Engine {
         pose_b: &Pose<T>,
     ) -> Result<Option<MeshDistance<T>>, Error> {
         let mut s = Nearest::new(self.current_tolerance());
+        s.widen_after = MESH_DISTANCE_WIDEN_AFTER.max(a.len() + b.len());
         search(self, a, pose_a, b, pose_b, &mut s)?;
         Ok(s.best)
     }
@@ -2290,14 +2321,14 @@ mod tests {
 
     /// A UV sphere of radius `r` centred at the origin: `m` rings of `2 m` quads (two triangles
     /// each, the poles' fans degenerate).
-    fn sphere(m: u32, r: f64) -> super::Mesh<f32> {
+    fn sphere<T: crate::Real>(m: u32, r: f64) -> super::Mesh<T> {
         let k = 2 * m;
         let mut v = Vec::new();
         for i in 0..=m {
             let th = core::f64::consts::PI * i as f64 / m as f64;
             for j in 0..k {
                 let ph = core::f64::consts::TAU * j as f64 / k as f64;
-                v.push([r * th.sin() * ph.cos(), r * th.sin() * ph.sin(), r * th.cos()].map(|x| x as f32));
+                v.push([r * th.sin() * ph.cos(), r * th.sin() * ph.sin(), r * th.cos()].map(T::from_f64));
             }
         }
         let at = |i: u32, j: u32| i * k + j % k;
@@ -2323,7 +2354,7 @@ mod tests {
     fn far_intersecting_meshes_are_searched_overlapping_pairs_first() {
         use super::*;
         let e = Engine::auto();
-        let (a, b) = (sphere(50, 1.0), sphere(50, 1.0));
+        let (a, b) = (sphere::<f32>(50, 1.0), sphere::<f32>(50, 1.0));
         let pa = Pose::translation([1e6f32, 0.0, 0.0]);
         let pb = Pose::from_axis_angle([1.0f32, 2.0, 3.0], 0.5, [1e6, 0.0, 0.5]).unwrap();
         let all = a.len() * b.len();
@@ -2342,5 +2373,53 @@ mod tests {
         assert!(first < all * 6 / 1000, "{first} of {all} pairs answered");
         assert!(plain > 20 * first, "plain depth first: {plain} pairs, overlapping first: {first}");
         assert!(e.mesh_intersect(&a, &pa, &b, &pb).unwrap().is_some());
+    }
+
+    /// Two f64 spheres of 1,600 triangles, radius 5, 1e16 apart (`u S` = 1.1): the pruning
+    /// tests' own rounding exceeds the slack of 4 `u S`, so without widening the search
+    /// answered 1,694,924 of the 2,560,000 pairs (measured; asserted, as the cliff this guards
+    /// against). Widened after [`MESH_DISTANCE_WIDEN_AFTER`] pairs it answers 65,553, and its
+    /// answer is its pair's kernel answer within the tolerance's width of the smallest kernel
+    /// answer over all pairs (brute force).
+    #[test]
+    fn far_apart_f64_meshes_widen_the_slack_after_many_pairs() {
+        use super::*;
+        let e = Engine::auto();
+        let (a, b) = (sphere::<f64>(20, 5.0), sphere::<f64>(20, 5.0));
+        let pa = Pose::identity();
+        let pb = Pose::from_axis_angle([1.0, 2.0, 3.0], 0.5, [1e16, 0.0, 0.0]).unwrap();
+        let all = a.len() * b.len();
+        let run = |widen_after: usize| {
+            let mut s = Nearest::<f64>::new(e.current_tolerance());
+            s.widen_after = widen_after;
+            search(&e, &a, &pa, &b, &pb, &mut s).expect("search");
+            (s.best.expect("an answer"), s.answered, s.wide)
+        };
+        let (_, never, _) = run(usize::MAX);
+        assert!(never > all / 2, "never widened: {never} of {all} pairs answered");
+        let (best, answered, wide) = run(MESH_DISTANCE_WIDEN_AFTER.max(a.len() + b.len()));
+        assert!(answered < 2 * MESH_DISTANCE_WIDEN_AFTER, "{answered} of {all} pairs answered");
+        // the width is 64 u S: S = 1e16 + the sphere's radius and rounding
+        let want = 64.0 * 1e16 * f64::EPSILON / 2.0;
+        assert!(wide >= want && wide < want * (1.0 + 1e-9), "width {wide}, not {want}");
+        assert_eq!(e.mesh_distance(&a, &pa, &b, &pb).unwrap().map(|d| d.sqdist), Some(best.sqdist));
+        let ta: Vec<_> = (0..a.len()).map(|i| a.triangle_at(i, &pa)).collect();
+        let tb: Vec<_> = (0..b.len()).map(|j| b.triangle_at(j, &pb)).collect();
+        let (mut xa, mut xb) = (Vec::with_capacity(all), Vec::with_capacity(all));
+        for x in &ta {
+            for y in &tb {
+                xa.push(*x);
+                xb.push(*y);
+            }
+        }
+        let mut d = vec![0.0f64; all];
+        e.sqdist_triangle_triangle(&xa, &xb, &mut d).expect("brute force");
+        let min = d.iter().fold(f64::INFINITY, |m, &x| m.min(x));
+        assert_eq!(best.sqdist, d[best.tri_a * b.len() + best.tri_b], "not its pair's answer");
+        assert!(
+            best.sqdist >= min && best.sqdist.sqrt() <= min.sqrt() + wide,
+            "{} against {min}",
+            best.sqdist
+        );
     }
 }

@@ -435,12 +435,11 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         let err = excess(r.sqdist.to_f64().sqrt() - dstar, u, big_s);
         // above the exact minimum the search may stop within its slack of the smallest kernel
         // answer (`Engine::mesh_distance`): that many `u S` beyond a kernel answer's own error
-        // (`S` there is the moved roots' boxes', a hair above `big_s`)
-        let err = if r.sqdist.to_f64().sqrt() > dstar {
-            (err - tridist::MESH_DISTANCE_SLACK * (1.0 + 1e-6)).max(0.0)
-        } else {
-            err
-        };
+        // (`S` there is the moved roots' boxes', a hair above `big_s`); the tolerance's width
+        // where the search could answer enough pairs to widen it
+        let widens = ma.len() * mb.len() >= tridist::MESH_DISTANCE_WIDEN_AFTER.max(ma.len() + mb.len());
+        let slack = if widens { e.current_tolerance().scaled } else { tridist::MESH_DISTANCE_SLACK };
+        let err = if r.sqdist.to_f64().sqrt() > dstar { (err - slack * (1.0 + 1e-6)).max(0.0) } else { err };
         let pair = d2.get(r.tri_a, r.tri_b).to_f64().sqrt();
         let err_pair = excess(r.sqdist.to_f64().sqrt() - pair, u, big_s);
         for (pt, t) in [(r.p, &ea[r.tri_a]), (r.q, &eb[r.tri_b])] {
