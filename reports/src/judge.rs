@@ -81,7 +81,7 @@ pub(crate) struct JudgeArgs {
     #[arg(long, default_value = "tri_tri", value_parser = parse_judged)]
     query: Query,
     /// Fail (exit 1) when the excess error E exceeds this anywhere.
-    #[arg(long, value_name = "X", value_parser = crate::non_negative)]
+    #[arg(long, value_name = "X", value_parser = crate::non_negative, allow_hyphen_values = true)]
     max_excess: Option<f64>,
     /// Fail (exit 1) when more cases than this are misclassified or non-finite (contact
     /// misses, false zeros beyond 8 u S, wrong verdicts, non-finite answers).

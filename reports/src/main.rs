@@ -24,7 +24,7 @@ use std::time::Duration;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use tridist::{Engine, Interval, PenaltyOptions, Query, Tolerance};
 use tridist_scenes::bounds::bound_any_family;
-use tridist_scenes::eval::{parse_case_line, prims, run_with, summarise, truth, Variant};
+use tridist_scenes::eval::{parse_case_line_exact, prims, run_with, summarise, truth, Variant};
 use tridist_scenes::float::Float;
 use tridist_scenes::peer::{self, Lib};
 use tridist_scenes::Case;
@@ -68,8 +68,9 @@ enum Cmd {
     },
     /// Answer the pairs on stdin with any kernel, or the exact oracle.
     ///
-    /// Reads pairs from stdin (a label and 18 coordinates per line: triangle A then B; blank
-    /// and # lines ignored) and prints `label answer` per pair. Segment queries use the first
+    /// Reads pairs from stdin (a label and 18 coordinates per line: triangle A then B, then
+    /// optionally `exact=NUM/DEN`, ignored, as `tridist cases --exact` writes; blank and #
+    /// lines ignored) and prints `label answer` per pair. Segment queries use the first
     /// edge (vertices 0-1) of each triangle, point-triangle vertex 0 of B against A. Answers:
     /// the squared distance (shortest round-trip decimal; within-margin prints `inf` beyond
     /// the margin), or `intersecting` / `disjoint` / `invalid`.
@@ -375,8 +376,9 @@ fn read_cases<T: Float>(text: &str) -> (Vec<Case<T>>, Vec<String>) {
         if l.is_empty() || l.starts_with('#') {
             continue;
         }
-        match parse_case_line::<T>(l) {
-            Ok(c) => cases.push(c),
+        // a trailing `exact=NUM/DEN` (`tridist cases --exact`) is read and ignored
+        match parse_case_line_exact::<T>(l) {
+            Ok((c, _)) => cases.push(c),
             Err(e) => errors.push(format!("line {}: {e}", i + 1)),
         }
     }

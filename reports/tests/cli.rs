@@ -163,6 +163,7 @@ fn usage_errors_exit_2_with_the_usage_and_runtime_errors_exit_3_without() {
         &["advise", "--scale", "1", "--tolerance", "-1e-3"],
         &["eval", "--kernel", "within", "--margin", "-0.5"],
         &["eval", "--kernel", "penalty", "--penalty-tol", "-1"],
+        &["judge", "--cases", "c", "--answers", "a", "--precision", "f32", "--max-excess", "-1"],
     ] {
         let (code, _, err) = tridist(args, "");
         assert_eq!(code, 2, "{args:?}: {err}");

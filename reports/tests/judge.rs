@@ -106,6 +106,12 @@ fn cases_are_reproducible_listed_and_carry_the_oracles_exact_answer() {
     let (code, _, err, _) = judge(&tampered, &answers, "f64", &[], &d);
     assert_eq!(code, 3);
     assert!(err.contains("line 3") && err.contains("not the oracle's"), "{err}");
+    // eval reads the same file (the fractions ignored), and its answers pass the judge
+    let (code, ours, err) = tridist(&["eval", "--precision", "f64"], &ex);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(ours.lines().count(), answers.lines().count(), "{ours}");
+    let (code, out, err, _) = judge(&ex, &ours, "f64", &["--max-excess", "8"], &d);
+    assert_eq!(code, 0, "{out}{err}");
     let (code, _, err) = tridist(&["cases", "--family", "nope"], "");
     assert_eq!(code, 3);
     assert!(err.contains("unknown family"), "{err}");
