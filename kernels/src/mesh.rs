@@ -2422,4 +2422,27 @@ mod tests {
             best.sqdist
         );
     }
+
+    /// The README states the mesh distance's constants as the code has them.
+    #[test]
+    fn the_readme_states_the_distance_search_constants() {
+        let readme = include_str!("../../README.md").split_whitespace().collect::<Vec<_>>().join(" ");
+        let group = |n: usize| {
+            let s = n.to_string();
+            let mut out = String::new();
+            for (i, c) in s.chars().enumerate() {
+                if i > 0 && (s.len() - i) % 3 == 0 {
+                    out.push(',');
+                }
+                out.push(c);
+            }
+            out
+        };
+        for want in [
+            format!("`MESH_DISTANCE_SLACK` ({}) `u S`", super::MESH_DISTANCE_SLACK),
+            format!("`MESH_DISTANCE_WIDEN_AFTER` ({}) pairs", group(super::MESH_DISTANCE_WIDEN_AFTER)),
+        ] {
+            assert!(readme.contains(&want), "the README does not say {want:?}");
+        }
+    }
 }
