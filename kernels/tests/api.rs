@@ -638,3 +638,47 @@ fn without_the_quick_stage_every_pair_takes_the_full_stage() {
         );
     }
 }
+
+/// A distance so small against the coordinates that its prescaled square underflows (f32:
+/// segments and triangles spanning `±big`, 1 apart): the squared distance is still the square
+/// of a distance in its certified interval, rounded once (`Tolerance`'s guarantee), not 0 below
+/// an interval that starts near 1.
+fn squares_within_their_intervals<T: tridist::Real>(engines: &[Engine], big: f64) {
+    let c = |x: f64| T::from_f64(x);
+    let a: Triangle<T> = [[c(big), c(0.0), c(0.0)], [c(-big), c(0.0), c(0.0)], [c(0.0), c(1.0), c(0.0)]];
+    let b: Triangle<T> = [[c(0.0), c(0.0), c(1.0)], [c(1.0), c(0.0), c(1.0)], [c(0.0), c(1.0), c(1.0)]];
+    let u = T::UNIT_ROUNDOFF.to_f64();
+    for e in engines {
+        for q in [Query::TriTri, Query::SegSeg, Query::PointTri] {
+            let (mut d, mut iv) = ([T::ZERO], [Interval::default()]);
+            let out = Outputs::new().sqdist(&mut d).intervals(&mut iv);
+            let r = match q {
+                Query::TriTri => e.run(q, &[a][..], &[b][..], out),
+                Query::SegSeg => e.run(q, &[[a[0], a[1]]][..], &[[b[0], b[1]]][..], out),
+                _ => e.run(q, &[[b[0]]][..], &[a][..], out),
+            };
+            r.unwrap();
+            let (d, lo, hi) = (d[0].to_f64(), iv[0].lo.to_f64(), iv[0].hi.to_f64());
+            assert!(
+                lo <= 1.0 && 1.0 <= hi,
+                "{:?} {q:?}: the exact distance 1 is not in [{lo}, {hi}]",
+                e.isa()
+            );
+            assert!(
+                lo * lo * (1.0 - 2.0 * u) <= d && d <= hi * hi * (1.0 + 2.0 * u),
+                "{:?} {q:?} {}: squared distance {d} outside [{lo}, {hi}] squared",
+                e.isa(),
+                T::PRECISION.name()
+            );
+        }
+    }
+}
+
+#[test]
+fn tiny_distances_far_from_the_origin_square_within_their_intervals() {
+    let e = engines();
+    squares_within_their_intervals::<f32>(&e, 3e38);
+    squares_within_their_intervals::<f32>(&e, 1e30);
+    squares_within_their_intervals::<f64>(&e, 1e300);
+    squares_within_their_intervals::<f64>(&e, 1e200);
+}

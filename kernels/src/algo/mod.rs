@@ -410,6 +410,12 @@ pub(crate) fn unscale<L: Lanes>(r: Res<L>, lo: L, hi: L, ok: L::M, sc: &Scaled<L
     let tiny = k.splat(<L::S as crate::real::sealed::Sealed>::TINY);
     let lo = lo.mul(p).sub(tiny).max(k.zero());
     let hi = hi.mul(p).add(tiny);
+    // A prescaled square below the normal range lost its bits (a distance under about
+    // `sqrt(MIN_POSITIVE) S`, e.g. 1 apart at 3e38 in f32, squared to 0): answer the square of
+    // `lo`, rounded once, where that is larger, so the answer stays the square of a distance
+    // in the interval (the tolerance's guarantee). Normal squares are left as they are.
+    let under = r.d.lt(k.splat(L::S::MIN_POSITIVE));
+    let d = L::select(under, d.max(lo.mul(lo)), d);
     let nan = k.nan();
     let nan3 = V3::splat(nan);
     let f = sc.finite;
