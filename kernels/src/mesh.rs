@@ -2227,18 +2227,41 @@ mod tests {
         eprintln!("largest difference between instruction sets: {worst:e} S over {checked} triangle pairs ({overlapping} overlapping node pairs)");
     }
 
-    /// A grid of `n x n` squares (two triangles each) of side `h` in the plane x = 0.
-    fn wall(n: u32, h: f32) -> super::Mesh<f32> {
-        let v = (0..=n).flat_map(|i| (0..=n).map(move |j| [0.0, i as f32 * h, j as f32 * h])).collect();
-        let at = |i: u32, j: u32| i * (n + 1) + j;
-        let t = (0..n)
+    /// Two triangles for each of `rows x cols` quads, whose corner `(i, j)` is vertex `at(i, j)`.
+    fn quads(rows: u32, cols: u32, at: impl Fn(u32, u32) -> u32 + Copy) -> Vec<[u32; 3]> {
+        (0..rows)
             .flat_map(|i| {
-                (0..n).flat_map(move |j| {
+                (0..cols).flat_map(move |j| {
                     [[at(i, j), at(i + 1, j), at(i, j + 1)], [at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]]
                 })
             })
-            .collect();
-        super::Mesh::new(v, t).expect("mesh")
+            .collect()
+    }
+
+    /// A grid of `n x n` squares (two triangles each) of side `h` in the plane x = 0.
+    fn wall(n: u32, h: f32) -> super::Mesh<f32> {
+        let v = (0..=n).flat_map(|i| (0..=n).map(move |j| [0.0, i as f32 * h, j as f32 * h])).collect();
+        super::Mesh::new(v, quads(n, n, |i, j| i * (n + 1) + j)).expect("mesh")
+    }
+
+    /// The kernels' squared distance of every pair of moved triangles, `i * b.len() + j`.
+    fn brute_force<T: crate::Real>(
+        e: &crate::Engine,
+        (a, pa): (&super::Mesh<T>, &crate::Pose<T>),
+        (b, pb): (&super::Mesh<T>, &crate::Pose<T>),
+    ) -> Vec<T> {
+        let tb: Vec<_> = (0..b.len()).map(|j| b.triangle_at(j, pb)).collect();
+        let (mut xa, mut xb) = (Vec::new(), Vec::new());
+        for i in 0..a.len() {
+            let x = a.triangle_at(i, pa);
+            for y in &tb {
+                xa.push(x);
+                xb.push(*y);
+            }
+        }
+        let mut d = vec![T::ZERO; xa.len()];
+        e.sqdist_triangle_triangle(&xa, &xb, &mut d).expect("brute force");
+        d
     }
 
     /// Two walls facing each other 1e8 apart in f32 (`u S` = 6, the walls 100 across): every
@@ -2267,17 +2290,7 @@ mod tests {
         let want = 4.0 * (1e8 + 100.0) / 16_777_216.0;
         assert!((slack - want).abs() < 1e-6 * want, "slack {slack}, not {want}");
         // brute force over every pair of moved triangles
-        let ta: Vec<_> = (0..a.len()).map(|i| a.triangle_at(i, &pa)).collect();
-        let tb: Vec<_> = (0..b.len()).map(|j| b.triangle_at(j, &pb)).collect();
-        let (mut xa, mut xb) = (Vec::with_capacity(all), Vec::with_capacity(all));
-        for x in &ta {
-            for y in &tb {
-                xa.push(*x);
-                xb.push(*y);
-            }
-        }
-        let mut d = vec![0.0f32; all];
-        e.sqdist_triangle_triangle(&xa, &xb, &mut d).expect("brute force");
+        let d = brute_force(&e, (&a, &pa), (&b, &pb));
         let min = d.iter().fold(f64::INFINITY, |m, &x| m.min(x as f64));
         for m in [&best, &exact] {
             let got = m.sqdist as f64;
@@ -2331,15 +2344,7 @@ mod tests {
                 v.push([r * th.sin() * ph.cos(), r * th.sin() * ph.sin(), r * th.cos()].map(T::from_f64));
             }
         }
-        let at = |i: u32, j: u32| i * k + j % k;
-        let t = (0..m)
-            .flat_map(|i| {
-                (0..k).flat_map(move |j| {
-                    [[at(i, j), at(i + 1, j), at(i, j + 1)], [at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]]
-                })
-            })
-            .collect();
-        super::Mesh::new(v, t).expect("mesh")
+        super::Mesh::new(v, quads(m, k, |i, j| i * k + j % k)).expect("mesh")
     }
 
     /// Two interpenetrating spheres of 5,000 triangles 1e6 from the origin in f32: the
@@ -2347,9 +2352,9 @@ mod tests {
     /// (radius 1), so no node pair apart is pruned. Overlapping pairs first, the search answers
     /// under 0.6 % of the pairs before its hit (5,332 measured); plain depth first, as before,
     /// walked every apart pair of a subtree before the next overlapping one (732,506 measured;
-    /// asserted too, as the cliff this guards against: `tridist mesh` took 54 ms here for the
-    /// Armadillo and fandisk at 1e6, 1.7 s at 1e9, against 2 ms and 0.05 ms now). Both hits
-    /// are pairs the kernels call intersecting.
+    /// asserted too, as the cliff this guards against: one call of `tridist mesh` took 54-70 ms
+    /// for the Armadillo and fandisk interpenetrating at 1e6, 1.7-1.8 s at 1e9, against
+    /// 1.4-2.2 ms and 0.05-0.13 ms now). Both hits are pairs the kernels call intersecting.
     #[test]
     fn far_intersecting_meshes_are_searched_overlapping_pairs_first() {
         use super::*;
@@ -2403,17 +2408,7 @@ mod tests {
         let want = 64.0 * 1e16 * f64::EPSILON / 2.0;
         assert!(wide >= want && wide < want * (1.0 + 1e-9), "width {wide}, not {want}");
         assert_eq!(e.mesh_distance(&a, &pa, &b, &pb).unwrap().map(|d| d.sqdist), Some(best.sqdist));
-        let ta: Vec<_> = (0..a.len()).map(|i| a.triangle_at(i, &pa)).collect();
-        let tb: Vec<_> = (0..b.len()).map(|j| b.triangle_at(j, &pb)).collect();
-        let (mut xa, mut xb) = (Vec::with_capacity(all), Vec::with_capacity(all));
-        for x in &ta {
-            for y in &tb {
-                xa.push(*x);
-                xb.push(*y);
-            }
-        }
-        let mut d = vec![0.0f64; all];
-        e.sqdist_triangle_triangle(&xa, &xb, &mut d).expect("brute force");
+        let d = brute_force(&e, (&a, &pa), (&b, &pb));
         let min = d.iter().fold(f64::INFINITY, |m, &x| m.min(x));
         assert_eq!(best.sqdist, d[best.tri_a * b.len() + best.tri_b], "not its pair's answer");
         assert!(
