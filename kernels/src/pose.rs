@@ -41,7 +41,7 @@ impl<T: Real> Pose<T> {
     pub fn from_axis_angle(axis: [T; 3], angle: f64, t: [T; 3]) -> Result<Self, Error> {
         let a = axis.map(|x| x.to_f64());
         let big = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        if !angle.is_finite() || !big.is_finite() || big == 0.0 || a.iter().any(|x| x.is_nan()) {
+        if !angle.is_finite() || a.iter().any(|x| !x.is_finite()) || big == 0.0 {
             return Err(Error::InvalidRotation);
         }
         if t.iter().any(|x| !x.is_finite()) {

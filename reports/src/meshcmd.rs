@@ -24,7 +24,7 @@ pub struct MeshArgs {
     #[arg(long, value_parser = parse_pose, default_value = "0,0,0", allow_hyphen_values = true)]
     pub pose_b: [f64; 7],
     /// Contacts: report the triangle pairs within this distance (finite, non-negative).
-    #[arg(long, value_parser = parse_margin, allow_hyphen_values = true)]
+    #[arg(long, value_parser = crate::non_negative, allow_hyphen_values = true)]
     pub margin: Option<f64>,
     /// With --margin: print at most this many contacts (the closest first).
     #[arg(long, default_value_t = 10)]
@@ -71,14 +71,6 @@ fn parse_pose(s: &str) -> Result<[f64; 7], String> {
 fn parse_point(s: &str) -> Result<[f64; 3], String> {
     let v = parse_list(s)?;
     <[f64; 3]>::try_from(v.as_slice()).map_err(|_| format!("a point is 3 numbers x,y,z, found {}", v.len()))
-}
-
-fn parse_margin(s: &str) -> Result<f64, String> {
-    match s.trim().parse::<f64>() {
-        Ok(m) if m.is_finite() && m >= 0.0 => Ok(m),
-        Ok(_) => Err(format!("the margin must be finite and non-negative, not {s:?}")),
-        Err(e) => Err(format!("{e} in {s:?}")),
-    }
 }
 
 /// The pose in precision `T`. Its numbers are finite (`parse_list`), but in f32 a translation
