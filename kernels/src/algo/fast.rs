@@ -2,8 +2,9 @@
 //! with no early exit, no per-candidate certification and no parameter recovery. In a local
 //! frame (`o = a_0`, so far from the origin the arithmetic is as accurate as near it):
 //!
-//! * the nine edge pairs (Ericson 5.1.9, the closest-point parameter from plain cross
-//!   products, edge norms and reciprocals shared; the certificate sees what rounding costs);
+//! * the nine edge pairs (Ericson 5.1.9, the closest-point parameter from the pair's dot
+//!   products, or from plain cross products where the edges are nearly parallel; edge norms
+//!   and reciprocals shared; the certificate sees what rounding costs);
 //! * the six vertex-face candidates whose projection falls inside the face, as parametric
 //!   points (barycentric weights from the same inside tests);
 //! * where the triangles straddle each other's planes, the edge crossing deepest inside the
@@ -112,22 +113,27 @@ pub(crate) fn tri_tri_fast<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut<
     let tiny = k.splat(L::S::MIN_POSITIVE);
     let e = [s[1], s[2].sub(s[1]), s[2].neg()];
     let f = [t[1].sub(t[0]), t[2].sub(t[1]), t[0].sub(t[2])];
-    let iea =
-        [one.div(e[0].norm2().max(tiny)), one.div(e[1].norm2().max(tiny)), one.div(e[2].norm2().max(tiny))];
-    let ifb =
-        [one.div(f[0].norm2().max(tiny)), one.div(f[1].norm2().max(tiny)), one.div(f[2].norm2().max(tiny))];
+    let ee = [e[0].norm2(), e[1].norm2(), e[2].norm2()];
+    let ff = [f[0].norm2(), f[1].norm2(), f[2].norm2()];
+    let iea = [one.div(ee[0].max(tiny)), one.div(ee[1].max(tiny)), one.div(ee[2].max(tiny))];
+    let ifb = [one.div(ff[0].max(tiny)), one.div(ff[1].max(tiny)), one.div(ff[2].max(tiny))];
     let mut best = Best { d: k.inf(), a: z, b: z, c: z, code: z };
     for i in 0..3 {
         for j in 0..3 {
-            // Ericson 5.1.9 with d = b_j - a_i and the lines' closest-point parameter by
-            // Lagrange's identity, s0 = n . (d x f) / |n|^2 with n = e x f, from plain cross
-            // products: rounding moves the candidate along the edges only (the points stay on
-            // them and the certificate stays rigorous); for nearly parallel edges that can
-            // widen the interval, and such pairs are re-certified or go on to the accurate
-            // stage ([`super::seg_seg`]'s accurately rounded cross products). (Ericson's own
-            // (e.d |f|^2 - e.f f.d) / (|e|^2 |f|^2 - (e.f)^2) sent 4.8 % (f32) and 7.8 % (f64)
-            // of the near-parallel family's pairs to the accurate stage, these none.)
-            let (d2, ss, tt) = edge_pair(s[i], e[i], iea[i], t[j], f[j], ifb[j]);
+            // Ericson 5.1.9 with d = b_j - a_i and the lines' closest-point parameter from the
+            // dot products the pair needs anyway, (e.d |f|^2 - e.f f.d) / (|e|^2 |f|^2 -
+            // (e.f)^2), except where the edges are within about 7 degrees of parallel: there
+            // by Lagrange's identity, s0 = n . (d x f) / |n|^2 with n = e x f, from plain
+            // cross products ([`edge_pair`]). Rounding moves the candidate along the edges
+            // only (the points stay on them and the certificate stays rigorous); for nearly
+            // parallel edges that can widen the interval, and such pairs are re-certified or
+            // go on to the accurate stage ([`super::seg_seg`]'s accurately rounded cross
+            // products). The dot-product form everywhere sent 12.5 % (f32) and 7.9 % (f64) of
+            // the near-parallel family's pairs to the accurate stage, the cross products none,
+            // and so does the mix (`spin tri_tri near_parallel <prec> avx2fma 0.2 4000 1
+            // sqdist full`, the path counts); the mix saves 20 operations per edge pair
+            // elsewhere (ARCHITECTURE.md, "The lines' parameter from dot products").
+            let (d2, ss, tt) = edge_pair(s[i], e[i], iea[i], t[j], f[j], ifb[j], Some((ee[i], ff[j])));
             best.keep(d2, ss, tt, k.c((3 * i + j) as f64));
         }
     }
@@ -266,7 +272,7 @@ pub(crate) fn tri_tri_quick<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut
     let (si, sn, tj, tn) = (pick(i1, i2, s), pick(i0, i1, s), pick(j1, j2, t), pick(j0, j1, t));
     let (ei, fj) = (sn.sub(si), tn.sub(tj));
     let (iea, ifb) = (one.div(ei.norm2().max(tiny)), one.div(fj.norm2().max(tiny)));
-    let (d, a, b) = edge_pair(si, ei, iea, tj, fj, ifb);
+    let (d, a, b) = edge_pair(si, ei, iea, tj, fj, ifb, None);
     // the answer (its certification direction below)
     let (p, q) = (si.add_scaled(ei, a), tj.add_scaled(fj, b));
     // A vertex shared by the front edges (mesh neighbours; identical triangles share all
@@ -384,15 +390,44 @@ fn face<L: Lanes>(e: &[V3<L>; 3]) -> (V3<L>, L::M, L, L::M) {
 }
 
 /// Squared distance and parameters `(s, t)` of the closest points of the edges `a + s e` and
-/// `b + t f` (Ericson 5.1.9 with the lines' parameter from plain cross products; see
-/// [`tri_tri_fast`]). `iea`, `ifb`: reciprocals of the squared edge lengths.
+/// `b + t f` (Ericson 5.1.9; see [`tri_tri_fast`]). `iea`, `ifb`: reciprocals of the squared
+/// edge lengths. The lines' parameter comes from plain cross products (`gram` `None`: the quick
+/// stage), or, given the squared edge lengths `(|e|^2, |f|^2)` (the full fast stage), from the
+/// dot products already formed, `(e.d |f|^2 - e.f f.d) / (|e|^2 |f|^2 - (e.f)^2)`, 20 operations
+/// fewer a pair, except in lanes whose edges are within about 7 degrees of parallel
+/// (`|e x f|^2 < |e|^2 |f|^2 / 64`), where that form's cancellation costs `u / sin^2` and the
+/// cross products are taken instead (when any lane of the vector needs them). The rounding of
+/// either moves the points along their edges only.
 #[inline(always)]
-fn edge_pair<L: Lanes>(a: V3<L>, e: V3<L>, iea: L, b: V3<L>, f: V3<L>, ifb: L) -> (L, L, L) {
+#[allow(clippy::too_many_arguments)]
+fn edge_pair<L: Lanes>(
+    a: V3<L>,
+    e: V3<L>,
+    iea: L,
+    b: V3<L>,
+    f: V3<L>,
+    ifb: L,
+    gram: Option<(L, L)>,
+) -> (L, L, L) {
     let d = b.sub(a);
-    let n = e.cross(f);
     let bb = e.dot(f);
     let (ed, fd) = (e.dot(d), f.dot(d));
-    let s0 = n.dot(d.cross(f)).safe_div(n.norm2()).clamp01();
+    let s0 = match gram {
+        None => by_cross(d, e, f),
+        Some((ee, ff)) => {
+            let k = Cx::of(bb);
+            let eff = ee.mul(ff);
+            let den = eff.sub(bb.mul(bb));
+            let s0 = ed.mul(ff).sub(bb.mul(fd)).safe_div(den);
+            let flat = den.lt(eff.mul(k.c(1.0 / 64.0)));
+            if flat.any() {
+                L::select(flat, by_cross(d, e, f), s0)
+            } else {
+                s0
+            }
+        }
+    }
+    .clamp01();
     // t = (bb s0 - fd) / |f|^2 and s = (bb t + ed) / |e|^2, each one multiply-add after the
     // parameter it waits for: the products with the reciprocals are formed beside the
     // division, off the quick stage's critical path (the parameters are clamped and only
@@ -403,6 +438,15 @@ fn edge_pair<L: Lanes>(a: V3<L>, e: V3<L>, iea: L, b: V3<L>, f: V3<L>, ifb: L) -
     // W = q - p = (b - a) + t f - s e
     let w = d.add_scaled(f, tt).add_scaled(e, ss.neg());
     (w.norm2(), ss, tt)
+}
+
+/// The lines' closest-point parameter on `e` by Lagrange's identity from plain cross
+/// products, `n . (d x f) / |n|^2` with `n = e x f` (a function, not a closure: closures
+/// compile without the entry point's target features).
+#[inline(always)]
+fn by_cross<L: Lanes>(d: V3<L>, e: V3<L>, f: V3<L>) -> L {
+    let n = e.cross(f);
+    n.dot(d.cross(f)).safe_div(n.norm2())
 }
 
 /// The answer of every lane rebuilt from its best candidate, and its certificate (static
