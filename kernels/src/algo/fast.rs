@@ -131,7 +131,7 @@ pub(crate) fn tri_tri_fast<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut<
             // products). The dot-product form everywhere sent 12.5 % (f32) and 7.9 % (f64) of
             // the near-parallel family's pairs to the accurate stage, the cross products none,
             // and so does the mix (`spin tri_tri near_parallel <prec> avx2fma 0.2 4000 1
-            // sqdist full`, the path counts); the mix saves 20 operations per edge pair
+            // sqdist full`, the path counts); the mix saves 16 operations per edge pair
             // elsewhere (ARCHITECTURE.md, "The lines' parameter from dot products").
             let (d2, ss, tt) = edge_pair(s[i], e[i], iea[i], t[j], f[j], ifb[j], Some((ee[i], ff[j])));
             best.keep(d2, ss, tt, k.c((3 * i + j) as f64));
@@ -393,9 +393,9 @@ fn face<L: Lanes>(e: &[V3<L>; 3]) -> (V3<L>, L::M, L, L::M) {
 /// `b + t f` (Ericson 5.1.9; see [`tri_tri_fast`]). `iea`, `ifb`: reciprocals of the squared
 /// edge lengths. The lines' parameter comes from plain cross products (`gram` `None`: the quick
 /// stage), or, given the squared edge lengths `(|e|^2, |f|^2)` (the full fast stage), from the
-/// dot products already formed, `(e.d |f|^2 - e.f f.d) / (|e|^2 |f|^2 - (e.f)^2)`, 20 operations
-/// fewer a pair, except in lanes whose edges are within about 7 degrees of parallel
-/// (`|e x f|^2 < |e|^2 |f|^2 / 64`), where that form's cancellation costs `u / sin^2` and the
+/// dot products already formed, `(e.d |f|^2 - e.f f.d) / (|e|^2 |f|^2 - (e.f)^2)` (with the
+/// parallel test, 8 operations where the cross products take 24), except in lanes whose edges
+/// are within about 7 degrees of parallel (`|e x f|^2 < |e|^2 |f|^2 / 64`), where that form's cancellation costs `u / sin^2` and the
 /// cross products are taken instead (when any lane of the vector needs them). The rounding of
 /// either moves the points along their edges only. Where `|e|^2 |f|^2` underflows (edges
 /// below about the fourth root of the smallest normal number, the input being prescaled to
