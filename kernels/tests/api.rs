@@ -682,3 +682,47 @@ fn tiny_distances_far_from_the_origin_square_within_their_intervals() {
     squares_within_their_intervals::<f64>(&e, 1e300);
     squares_within_their_intervals::<f64>(&e, 1e200);
 }
+
+/// The exact oracle as the last escalation step (feature `exact`), as [`Tolerance::EXACT`]'s
+/// docs promise: every pair no floating-point stage answers exactly is answered by the oracle,
+/// so every squared distance is the exact one correctly rounded and every interval holds the
+/// exact distance; with the step switched off, those pairs stay uncertified instead.
+#[cfg(feature = "exact")]
+#[test]
+fn the_exact_step_answers_what_no_float_stage_can() {
+    fn check<T: tridist::Real + tridist_oracle::Float>(round: fn(&rug::Rational) -> f64) {
+        use rug::Rational;
+        let ps = pairs::<T>(60);
+        let a: Vec<_> = ps.iter().map(|x| x.0).collect();
+        let b: Vec<_> = ps.iter().map(|x| x.1).collect();
+        let n = a.len();
+        let truth: Vec<Rational> =
+            ps.iter().map(|(a, b)| tridist_oracle::sqdist_triangle_triangle(a, b).unwrap()).collect();
+        for e in engines() {
+            let e = e.tolerance(Tolerance::EXACT).unwrap();
+            let (mut d, mut iv) = (vec![T::ZERO; n], vec![Interval::<T>::default(); n]);
+            let c = e
+                .exact(true)
+                .run(Query::TriTri, &a, &b, Outputs::new().sqdist(&mut d).intervals(&mut iv))
+                .unwrap();
+            assert!(c.exact > 0 && c.uncertified == 0, "{:?}: {c:?}", e.isa());
+            for i in 0..n {
+                assert_eq!(d[i].to_f64(), round(&truth[i]), "{:?} pair {i}", e.isa());
+                let (lo, hi) = (
+                    Rational::from_f64(iv[i].lo.to_f64()).unwrap(),
+                    Rational::from_f64(iv[i].hi.to_f64()).unwrap(),
+                );
+                assert!(
+                    lo.clone() * &lo <= truth[i] && truth[i] <= hi.clone() * &hi,
+                    "{:?} pair {i}: {:?}",
+                    e.isa(),
+                    iv[i]
+                );
+            }
+            let c = e.exact(false).run(Query::TriTri, &a, &b, Outputs::new().sqdist(&mut d)).unwrap();
+            assert!(c.exact == 0 && c.uncertified > 0, "{:?}: {c:?}", e.isa());
+        }
+    }
+    check::<f32>(|q| tridist_oracle::round::to_f32(q) as f64);
+    check::<f64>(tridist_oracle::round::to_f64);
+}
