@@ -148,7 +148,7 @@ pub fn allowed_misclassified(b: &Bound, n: usize) -> usize {
 pub const MIN_FOR_PERCENTILES: usize = 100;
 
 /// Does a measured row meet its bound? Non-finite output for finite input, an interval that
-/// misses the exact distance, or a misjudged verdict never does. Written so that NaN figures
+/// misses the exact distance or the answer, or a misjudged verdict never does. Written so that NaN figures
 /// fail.
 pub fn meets(s: &crate::eval::Stats, b: &Bound) -> bool {
     let misclassified = s.contact_misses + s.false_zeros;

@@ -332,7 +332,8 @@ pub struct Judged {
     /// Largest offset of a returned closest point from its primitive (scaled), and the error of
     /// `|p - q|` against the exact distance (scaled).
     pub point_error: f64,
-    /// The certified interval misses the exact distance.
+    /// The certified interval misses the exact distance, or the answer is not the square of a
+    /// distance in it, rounded once ([`answer_in_interval`]).
     pub interval_miss: bool,
     /// Width of the certified interval, scaled by `u*S` (0 for non-finite or verdict answers).
     pub width: f64,
@@ -353,6 +354,24 @@ pub fn interval_contains(iv: &Interval<impl Float>, d2: &Rational) -> bool {
     let lo_ok = sq(lo).is_some_and(|l| l <= *d2);
     let hi_ok = hi == f64::INFINITY || sq(hi).is_some_and(|h| *d2 <= h);
     lo_ok && hi_ok
+}
+
+/// Is a finite squared distance `d` the square of a distance in the interval, rounded once
+/// (what `Tolerance` documents of every certified answer): `lo^2 (1 - u) - t <= d <= hi^2 (1 +
+/// u) + t`, exactly, `u` the unit roundoff and `t` the smallest subnormal of the precision
+/// (round to nearest errs by at most `u` relative, or half a subnormal step where the square
+/// underflows)? An infinite `hi` bounds nothing above.
+pub fn answer_in_interval<T: Float>(iv: &Interval<T>, d: T) -> bool {
+    let (lo, hi, d) = (iv.lo.to_f64(), iv.hi.to_f64(), d.to_f64());
+    let (Some(lr), Some(dr)) = (Rational::from_f64(lo), Rational::from_f64(d)) else {
+        return false;
+    };
+    let u = Rational::from_f64(prec::<T>().u).unwrap_or_default();
+    let t = Rational::from_f64(T::from_bits_u64(1).to_f64()).unwrap_or_default();
+    let one = Rational::from(1);
+    let below = Rational::from(&lr * &lr) * Rational::from(&one - &u) - &t;
+    let above = Rational::from_f64(hi).map(|h| Rational::from(&h * &h) * Rational::from(&one + &u) + &t);
+    below <= dr && above.is_none_or(|a| dr <= a)
 }
 
 /// Judges one kernel output against the truth. `c` is the allowance (in `u S`) of verdicts
@@ -397,7 +416,7 @@ pub fn judge<T: Float>(
     let mut j = Judged::default();
     // The certified interval (every distance query, penalty included).
     let iv = &out.iv[i];
-    j.interval_miss = !interval_contains(iv, &t.d2);
+    j.interval_miss = !interval_contains(iv, &t.d2) || (d.is_finite() && !answer_in_interval(iv, out.d[i]));
     // In u S, dividing by S first (u S underflows for subnormal inputs); an infinite hi is an
     // infinite width (nothing certified).
     let w = iv.hi.to_f64() - iv.lo.to_f64();
@@ -473,7 +492,8 @@ pub struct Stats {
     pub nonfinite: usize,
     /// Largest closest-point error (scaled).
     pub max_point_error: f64,
-    /// Certified intervals that miss the exact distance (must be 0).
+    /// Certified intervals that miss the exact distance or the answer (must be 0; see
+    /// [`Judged::interval_miss`]).
     pub interval_misses: usize,
     /// Largest and median certified width (scaled).
     pub max_width: f64,
@@ -707,4 +727,41 @@ pub fn sweep_family_with<T: Float>(
         rows.push(row);
     }
     rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One rounding either way passes, one step beyond it fails, an underflowed square passes
+    /// only where the exact square is below the smallest subnormal, and an infinite `hi`
+    /// bounds nothing above.
+    #[test]
+    fn answers_are_squares_of_the_interval_rounded_once() {
+        let iv = |lo: f32, hi: f32| Interval { lo, hi };
+        let up = |x: f32| f32::from_bits(x.to_bits() + 1);
+        let down = |x: f32| f32::from_bits(x.to_bits() - 1);
+        // 3^2 = 9 exactly; its neighbours are 1.8 u away relative, beyond one rounding
+        assert!(answer_in_interval(&iv(3.0, 3.0), 9.0f32));
+        assert!(!answer_in_interval(&iv(3.0, 3.0), up(9.0)));
+        assert!(!answer_in_interval(&iv(3.0, 3.0), down(9.0)));
+        // 1.1^2 is not representable: its nearest rounding passes; two steps from it (1.5 ulp
+        // or more from the square, beyond u relative) do not
+        let x = 1.1f32;
+        let near = ((x as f64) * (x as f64)) as f32;
+        assert!(answer_in_interval(&iv(x, x), near));
+        assert!(
+            !answer_in_interval(&iv(x, x), down(down(near))) && !answer_in_interval(&iv(x, x), up(up(near)))
+        );
+        // squares below the smallest subnormal round to 0; squares above it do not
+        assert!(answer_in_interval(&iv(1e-23, 1e-23), 0.0f32));
+        assert!(!answer_in_interval(&iv(1e-20, 1e-20), 0.0f32));
+        // no upper bound
+        assert!(answer_in_interval(&iv(1.0, f32::INFINITY), 1e30f32));
+        assert!(!answer_in_interval(&iv(f32::NAN, 1.0), 0.5f32));
+        // f64: the same at its own unit roundoff
+        let up64 = |x: f64| f64::from_bits(x.to_bits() + 1);
+        assert!(answer_in_interval(&Interval { lo: 3.0, hi: 3.0 }, 9.0f64));
+        assert!(!answer_in_interval(&Interval { lo: 3.0, hi: 3.0 }, up64(9.0)));
+    }
 }

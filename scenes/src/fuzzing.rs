@@ -16,7 +16,9 @@ use arbitrary::{Arbitrary, Unstructured};
 use tridist::{Engine, Interval, Isa, Point, Query, Tolerance, Triangle};
 
 use crate::bounds::violations;
-use crate::eval::{case_line, exact_d2, exact_prims, interval_contains, parse_case_line, truth, Variant};
+use crate::eval::{
+    answer_in_interval, case_line, exact_d2, exact_prims, interval_contains, parse_case_line, truth, Variant,
+};
 use crate::families::{generate, ulp_step, Case, Family};
 use crate::float::Float;
 use crate::mesh::Mesh;
@@ -301,14 +303,10 @@ fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance) -> Verdict {
                     where_()
                 ));
             }
-            // The answer's square lies between the interval's squares, up to its rounding (and
-            // the documented underflow of squares below the smallest subnormal).
+            // The answer is the square of a distance in the interval, rounded once (and the
+            // documented underflow of squares below the smallest subnormal).
             let d2 = o.d[0].to_f64();
-            let (lo, hi) = (iv.lo.to_f64(), iv.hi.to_f64());
-            let (u, tiny) = (T::UNIT_ROUNDOFF.to_f64(), 4.0 * T::from_bits_u64(1).to_f64());
-            if d2.is_finite()
-                && (d2 < lo * lo * (1.0 - 8.0 * u) - tiny || d2 > hi * hi * (1.0 + 8.0 * u) + tiny)
-            {
+            if d2.is_finite() && !answer_in_interval(&iv, o.d[0]) {
                 return Err(format!("answer {:e} outside its interval {iv:?}: {}", d2.sqrt(), where_()));
             }
             let s = crate::eval::truth(q, cases)[0].s;
