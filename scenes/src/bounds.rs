@@ -148,8 +148,8 @@ pub fn allowed_misclassified(b: &Bound, n: usize) -> usize {
 pub const MIN_FOR_PERCENTILES: usize = 100;
 
 /// Does a measured row meet its bound? Non-finite output for finite input, an interval that
-/// misses the exact distance or the answer, or a misjudged verdict never does. Written so that NaN figures
-/// fail.
+/// misses the exact distance or the answer, or a misjudged verdict never does. Written so
+/// that NaN figures fail.
 pub fn meets(s: &crate::eval::Stats, b: &Bound) -> bool {
     let misclassified = s.contact_misses + s.false_zeros;
     // Percentiles are meaningful over a family sample, not over a single fuzz input.
