@@ -360,9 +360,13 @@ pub fn interval_contains(iv: &Interval<impl Float>, d2: &Rational) -> bool {
 /// (what `Tolerance` documents of every certified answer): `lo^2 (1 - u) - t <= d <= hi^2 (1 +
 /// u) + t`, exactly, `u` the unit roundoff and `t` the smallest subnormal of the precision
 /// (round to nearest errs by at most `u` relative, or half a subnormal step where the square
-/// underflows)? An infinite `hi` bounds nothing above.
+/// underflows)? An infinite `hi` bounds nothing above. A non-finite answer passes: it is
+/// judged as a non-finite output or the documented overflow instead.
 pub fn answer_in_interval<T: Float>(iv: &Interval<T>, d: T) -> bool {
     let (lo, hi, d) = (iv.lo.to_f64(), iv.hi.to_f64(), d.to_f64());
+    if !d.is_finite() {
+        return true;
+    }
     let (Some(lr), Some(dr)) = (Rational::from_f64(lo), Rational::from_f64(d)) else {
         return false;
     };
@@ -416,7 +420,7 @@ pub fn judge<T: Float>(
     let mut j = Judged::default();
     // The certified interval (every distance query, penalty included).
     let iv = &out.iv[i];
-    j.interval_miss = !interval_contains(iv, &t.d2) || (d.is_finite() && !answer_in_interval(iv, out.d[i]));
+    j.interval_miss = !interval_contains(iv, &t.d2) || !answer_in_interval(iv, out.d[i]);
     // In u S, dividing by S first (u S underflows for subnormal inputs); an infinite hi is an
     // infinite width (nothing certified).
     let w = iv.hi.to_f64() - iv.lo.to_f64();
@@ -759,6 +763,8 @@ mod tests {
         // no upper bound
         assert!(answer_in_interval(&iv(1.0, f32::INFINITY), 1e30f32));
         assert!(!answer_in_interval(&iv(f32::NAN, 1.0), 0.5f32));
+        // non-finite answers are judged elsewhere
+        assert!(answer_in_interval(&iv(1.0, 1.0), f32::INFINITY));
         // f64: the same at its own unit roundoff
         let up64 = |x: f64| f64::from_bits(x.to_bits() + 1);
         assert!(answer_in_interval(&Interval { lo: 3.0, hi: 3.0 }, 9.0f64));

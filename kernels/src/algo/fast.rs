@@ -395,8 +395,9 @@ fn face<L: Lanes>(e: &[V3<L>; 3]) -> (V3<L>, L::M, L, L::M) {
 /// stage), or, given the squared edge lengths `(|e|^2, |f|^2)` (the full fast stage), from the
 /// dot products already formed, `(e.d |f|^2 - e.f f.d) / (|e|^2 |f|^2 - (e.f)^2)` (with the
 /// parallel test, 8 operations where the cross products take 24), except in lanes whose edges
-/// are within about 7 degrees of parallel (`|e x f|^2 < |e|^2 |f|^2 / 64`), where that form's cancellation costs `u / sin^2` and the
-/// cross products are taken instead (when any lane of the vector needs them). The rounding of
+/// are within about 7 degrees of parallel (`|e x f|^2 < |e|^2 |f|^2 / 64`), where that form's
+/// cancellation costs `u / sin^2` and the cross products are taken instead (when any lane of
+/// the vector needs them). The rounding of
 /// either moves the points along their edges only. Where `|e|^2 |f|^2` underflows (edges
 /// below about the fourth root of the smallest normal number, the input being prescaled to
 /// [1, 2)), the test cannot see parallel edges and the parameter may be anywhere in [0, 1]:
