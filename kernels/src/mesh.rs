@@ -90,12 +90,12 @@ const FLUSH: usize = 64;
 /// An indexed triangle mesh and its bounding-volume hierarchy.
 ///
 /// Memory: besides the mesh (its vertices, and its triangles' vertex numbers twice: as given,
-/// and in the tree's leaf order for the queries), its tree, each thread that runs mesh-vs-mesh queries keeps a
-/// scratch (two per query, sized by the largest trees and queries it met) of 20 bytes per tree
-/// node, and the moved bounds of the nodes a query reached: 256 bytes per node, and 256 bytes
-/// times the width rounded up to 4 per node whose children were tested (at most about 9 MB
-/// per side for the 52,000 triangles of the Armadillo, when a query reaches every node). So
-/// starting a query costs nothing whatever the meshes' sizes.
+/// and in the tree's leaf order for the queries) and its tree, each thread that runs
+/// mesh-vs-mesh queries keeps a scratch (two per query, sized by the largest trees and queries
+/// it met) of 20 bytes per tree node, and the moved bounds of the nodes a query reached: 256
+/// bytes per node, and 256 bytes times the width rounded up to 4 per node whose children were
+/// tested (at most about 9 MB per side for the 52,000 triangles of the Armadillo, when a query
+/// reaches every node). So starting a query costs nothing whatever the meshes' sizes.
 ///
 /// # Example (the README's)
 /// ```
