@@ -8,8 +8,16 @@ use tridist::{Engine, Isa, Mesh, Pose, Real};
 use tridist_oracle as oracle;
 
 /// The mesh scene families.
-pub const FAMILIES: &[&str] =
-    &["separated", "near_parallel", "touching", "interpenetrating", "far", "degenerate", "needles"];
+pub const FAMILIES: &[&str] = &[
+    "separated",
+    "near_parallel",
+    "touching",
+    "interpenetrating",
+    "far",
+    "degenerate",
+    "needles",
+    "sheared",
+];
 
 /// The tree widths the differential tests and the fuzz target run (every variant on
 /// [`tridist::DEFAULT_WIDTH`], the best one on the others).
@@ -113,6 +121,30 @@ fn random_pose(rng: &mut Rng, t: [f64; 3]) -> Pose<f64> {
     Pose::from_axis_angle(rng.dir(), rng.range(0.0, std::f64::consts::TAU), t).expect("a unit axis")
 }
 
+/// A pose that is not rigid, as [`Pose`] allows (any matrix, applied as given): a shear of up
+/// to 1 in one off-diagonal entry, then per-axis scales of 1/4 to 4 (log-uniform), then a
+/// random rotation and the translation `t`.
+fn linear_pose(rng: &mut Rng, t: [f64; 3]) -> Pose<f64> {
+    let r = random_pose(rng, t).rotation;
+    let scale = [0, 1, 2].map(|_| rng.log_range(0.25, 4.0));
+    let (i, j) = (rng.below(3), rng.below(2));
+    let j = if j >= i { j + 1 } else { j };
+    let h = rng.range(-1.0, 1.0);
+    // rotation * diag(scale) * (I + h e_i e_j^T)
+    let mut m = [[0.0; 3]; 3];
+    for (row, out) in m.iter_mut().enumerate() {
+        for (col, x) in out.iter_mut().enumerate() {
+            *x = (0..3)
+                .map(|k| {
+                    let shear = f64::from(u8::from(k == col)) + if (k, col) == (i, j) { h } else { 0.0 };
+                    r[row][k] * scale[k] * shear
+                })
+                .sum();
+        }
+    }
+    Pose { rotation: m, translation: t }
+}
+
 /// Scene `index` of `family` (deterministic in `seed`). Blobs have `k` segments (about
 /// `2 k^2` triangles), plates `k/2` cells a side.
 ///
@@ -183,6 +215,13 @@ pub fn scene(family: &'static str, seed: u64, index: u64, k: usize) -> MeshScene
             }
             let d = [rng.range(-2.2, 2.2), rng.range(-0.5, 0.5), rng.range(-1e-4, 1e-3)];
             (a, b, id, Pose::translation(d))
+        }
+        "sheared" => {
+            // blobs moved by scaled and sheared matrices (see [`linear_pose`]), apart, near or
+            // through each other: the moved boxes must contain the moved vertices under any
+            // linear map, not only rotations
+            let d = rng.dir().map(|x| x * rng.range(0.5, 4.0));
+            (blob(&mut rng, k), blob(&mut rng, k), linear_pose(&mut rng, [0.0; 3]), linear_pose(&mut rng, d))
         }
         _ => panic!("unknown mesh family {family}"),
     };
