@@ -151,7 +151,12 @@ fn linear_pose(rng: &mut Rng, t: [f64; 3]) -> Pose<f64> {
 /// # Panics
 /// On an unknown family name (a test's typo).
 pub fn scene(family: &'static str, seed: u64, index: u64, k: usize) -> MeshScene {
-    let mut rng = Rng::new(seed ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ family.len() as u64);
+    // Seeded through the generator's own mixing: `seed ^ index * G ^ family.len()`, `G` the
+    // generator's increment, made scenes shifted copies of one stream (scenes 13 and 16 of a
+    // family were the same scenes) and families of one name length share their streams.
+    let mix = |x: u64| Rng::new(x).next_u64();
+    let name = family.bytes().fold(0u64, |h, b| mix(h ^ u64::from(b)));
+    let mut rng = Rng::new(mix(seed ^ mix(index ^ mix(name))));
     let id = Pose::identity();
     let (a, b, pose_a, pose_b) = match family {
         "separated" => {
@@ -228,17 +233,21 @@ pub fn scene(family: &'static str, seed: u64, index: u64, k: usize) -> MeshScene
     MeshScene { family, a, b, pose_a, pose_b }
 }
 
-/// The largest E of the mesh queries measured by `scenes/tests/mesh.rs` over every family,
-/// precision and variant (2026-11-23, seed 1: a closest-point query, f64).
-pub const MEASURED_E: f64 = 1.498;
+/// The largest E of the mesh queries (distance, contacts' distances, closest point) over every
+/// family, precision and variant, measured by `TRIDIST_EXTENSIVE=1 cargo test --release -p
+/// tridist-scenes --test mesh` (48 scenes per family, seed 1; 2026-11-26: separated/46, f32,
+/// a closest-point query). (Measured on 4 scenes per family before, some of them copies of one
+/// another, it was 1.498: independent scenes found larger errors, as large as the triangle
+/// kernels' own, whose answers these are.)
+pub const MEASURED_E: f64 = 3.479;
 /// The bound: measured x 1.25 + 0.25, as the triangle rows (`scenes/src/measured.in`).
-pub const BOUND_E: f64 = 2.2;
+pub const BOUND_E: f64 = 4.6;
 /// The largest `|p - q|` error of a contact's closest points against its pair's exact
-/// distance, measured as [`MEASURED_E`] (2026-11-23, seed 1: interpenetrating, f32); the triangle suite's point errors
+/// distance, measured as [`MEASURED_E`] (sheared/18, f64); the triangle suite's point errors
 /// reach 5.1 (`measured.in`).
-pub const MEASURED_GAP: f64 = 1.890;
+pub const MEASURED_GAP: f64 = 2.556;
 /// Its bound, as [`BOUND_E`].
-pub const BOUND_GAP: f64 = 2.65;
+pub const BOUND_GAP: f64 = 3.45;
 
 fn moved<T: Real>(m: &Mesh<T>, p: &Pose<T>) -> Vec<[[f64; 3]; 3]> {
     (0..m.len()).map(|i| m.triangle_at(i, p).map(|v| v.map(Real::to_f64))).collect()
