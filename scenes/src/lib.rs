@@ -28,6 +28,11 @@ pub mod workload;
 pub use families::{Case, Family};
 pub use float::Float;
 
+/// Whether the test suites run their extensive sizes (`TRIDIST_EXTENSIVE=1`; use `--release`).
+pub fn extensive() -> bool {
+    std::env::var("TRIDIST_EXTENSIVE").is_ok_and(|v| v == "1")
+}
+
 /// The environment variable that sets the base seed of every generated family.
 pub const SEED_ENV: &str = "TRIDIST_SEED";
 /// The default base seed.

@@ -13,15 +13,11 @@ use tridist_scenes::Family;
 
 fn cases() -> usize {
     let base = std::env::var("TRIDIST_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(300);
-    if extensive() {
+    if tridist_scenes::extensive() {
         base * 100
     } else {
         base
     }
-}
-
-fn extensive() -> bool {
-    std::env::var("TRIDIST_EXTENSIVE").is_ok_and(|v| v == "1")
 }
 
 fn check_row(row: &Row, worst: &str, failures: &mut Vec<String>) {
@@ -71,7 +67,7 @@ fn check_measured(rows: &[Row], failures: &mut Vec<String>) {
     // A recorded row much worse than what the extensive run now measures is stale: the bound
     // would let a regression back to the old figure pass. (Only the maximum and the point
     // error: the percentiles of the exact queries are near 0.)
-    if extensive() {
+    if tridist_scenes::extensive() {
         if let Some((rec, _)) = measured(r0.query, r0.precision, r0.family) {
             for (i, name) in [(0, "max E"), (3, "point error")] {
                 if rec[i] > 1.0 && now[i] < rec[i] / 1.5 {

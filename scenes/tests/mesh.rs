@@ -24,7 +24,7 @@ const EXTENSIVE_SCENES: u64 = 48;
 const K: usize = 7;
 
 fn scenes() -> u64 {
-    if std::env::var("TRIDIST_EXTENSIVE").is_ok_and(|v| v == "1") {
+    if tridist_scenes::extensive() {
         EXTENSIVE_SCENES
     } else {
         SCENES
@@ -40,8 +40,8 @@ fn family(fam: &'static str) {
         check_scene::<f64>(&s, idx, &Limits::MEASURED, &mut worst).unwrap();
     }
     println!(
-        "{fam}: largest mesh E {:.3} at {} (measured over all families: {MEASURED_E}, contact points' distance {MEASURED_GAP})",
-        worst.e, worst.what
+        "{fam}: largest mesh E {:.3} at {}; contact points' distance {:.3} at {} (measured over all families: {MEASURED_E}, {MEASURED_GAP})",
+        worst.e, worst.what, worst.gap, worst.gap_what
     );
 }
 

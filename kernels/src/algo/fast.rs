@@ -397,11 +397,11 @@ fn face<L: Lanes>(e: &[V3<L>; 3]) -> (V3<L>, L::M, L, L::M) {
 /// parallel test, 8 operations where the cross products take 24), except in lanes whose edges
 /// are within about 7 degrees of parallel (`|e x f|^2 < |e|^2 |f|^2 / 64`), where that form's
 /// cancellation costs `u / sin^2` and the cross products are taken instead (when any lane of
-/// the vector needs them). The rounding of
-/// either moves the points along their edges only. Where `|e|^2 |f|^2` underflows (edges
-/// below about the fourth root of the smallest normal number, the input being prescaled to
-/// [1, 2)), the test cannot see parallel edges and the parameter may be anywhere in [0, 1]:
-/// that moves the point by less than its edge's length, far below `u`.
+/// the vector needs them). The rounding of either moves the points along their edges only.
+/// Where `|e|^2 |f|^2` underflows (edges below about the fourth root of the smallest normal
+/// number, the input being prescaled to [1, 2)), the test cannot see parallel edges and the
+/// parameter may be anywhere in [0, 1]: that moves the point by less than its edge's length,
+/// far below `u`.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn edge_pair<L: Lanes>(
