@@ -1,13 +1,14 @@
 //! Writes seed corpora for the fuzz targets from the family generators:
 //! `cargo run -p tridist-scenes --example fuzz_seeds [-- <corpus dir>]` (default `fuzz/corpus`).
 //! Pair targets get family-mode inputs (every family, 4 seeds); `raw_bits` the same pairs as raw
-//! f64 and f32 bits; `parsers` the pairs as case lines and a small OFF mesh.
+//! f64 and f32 bits; `parsers` the pairs as case lines and a small OFF mesh; `mesh` also 16
+//! strings of 256 bytes from a fixed stream (whole meshes and poses).
 
 use std::path::PathBuf;
 
 use tridist_scenes::eval::case_line;
 use tridist_scenes::families::generate;
-use tridist_scenes::fuzzing::{seed_inputs, TARGETS};
+use tridist_scenes::fuzzing::{mesh_seed_inputs, seed_inputs, TARGETS};
 use tridist_scenes::Family;
 
 fn main() -> std::io::Result<()> {
@@ -28,6 +29,9 @@ fn main() -> std::io::Result<()> {
         for (i, v) in pairs.iter().enumerate() {
             put(t.name, format!("seed-family-{i}"), v)?;
         }
+    }
+    for (i, v) in mesh_seed_inputs(16).iter().enumerate() {
+        put("mesh", format!("seed-mesh-{i}"), v)?;
     }
     for f in Family::ALL {
         for (i, c) in generate::<f64>(f, tridist_scenes::DEFAULT_SEED, 4).iter().enumerate() {

@@ -496,6 +496,15 @@ pub fn seed_inputs(per_family: u64, extra: &[u8]) -> Vec<Vec<u8>> {
     out
 }
 
+/// Seed inputs of the `mesh` target: `n` strings of 256 bytes from a fixed stream. Family-mode
+/// pair inputs are short, and the mesh decoding reads exhausted bytes as zeros, so those decode
+/// to meshes of coincident zero vertices in rigid poses; these are long enough to decode both
+/// meshes, both poses and their linear parts from their own bytes.
+pub fn mesh_seed_inputs(n: u64) -> Vec<Vec<u8>> {
+    let mut rng = crate::rng::Rng::new(crate::DEFAULT_SEED);
+    (0..n).map(|_| (0..256).map(|_| rng.next_u64() as u8).collect()).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -509,6 +518,34 @@ mod tests {
             let (c, fam) = PairSource::Family(g, seed).build::<f64>().expect("families are finite in f64");
             assert_eq!((fam, c.label.split('/').next()), (*f, Some(f.name())));
         }
+    }
+
+    /// The mesh seeds decode to whole meshes from their own bytes, in rigid, scaled and other
+    /// (sheared or any) poses, and pass the target.
+    #[test]
+    fn mesh_seeds_cover_every_pose_kind() {
+        let (mut rigid, mut scaled, mut other) = (0, 0, 0);
+        for (i, v) in mesh_seed_inputs(16).iter().enumerate() {
+            let s = crate::mesh_scenes::fuzz_scene(v).expect("256 bytes decode");
+            for m in [&s.a, &s.b] {
+                assert!(m.vertices.iter().any(|x| *x != m.vertices[0]), "seed {i}: coincident vertices");
+            }
+            for p in [&s.pose_a, &s.pose_b] {
+                let r = p.rotation;
+                // the Gram matrix M^T M: the identity for a rotation, diagonal for scaled axes
+                let g = |a: usize, b: usize| (0..3).map(|k| r[k][a] * r[k][b]).sum::<f64>();
+                let off = (0..3).flat_map(|a| (0..3).filter(move |&b| b != a).map(move |b| (a, b)));
+                let diagonal = off.into_iter().all(|(a, b)| g(a, b).abs() < 1e-9);
+                let unit = (0..3).all(|a| (g(a, a) - 1.0).abs() < 1e-9);
+                match (diagonal, unit) {
+                    (true, true) => rigid += 1,
+                    (true, false) => scaled += 1,
+                    _ => other += 1,
+                }
+            }
+            assert_eq!(mesh(v), Ok(()), "seed {i}");
+        }
+        assert!(rigid > 0 && scaled > 0 && other > 0, "rigid {rigid}, scaled {scaled}, other {other}");
     }
 
     #[test]

@@ -598,7 +598,9 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
 
 /// The `mesh` fuzz target's input: two small meshes (up to 10 vertices and 12 triangles each,
 /// coordinates on a grid of 1/256 so that touching, coplanar and shared-vertex configurations
-/// are frequent), scaled by a power of two, optionally far from the origin, in two poses.
+/// are frequent), scaled by a power of two, optionally far from the origin, in two poses: a
+/// rotation (or none) and a translation, each optionally after a linear part (per-axis scales,
+/// a shear, or any matrix, singular ones included).
 pub fn fuzz_scene(data: &[u8]) -> Option<MeshScene> {
     use arbitrary::{Arbitrary, Unstructured};
     let mut u = Unstructured::new(data);
@@ -634,5 +636,29 @@ pub fn fuzz_scene(data: &[u8]) -> Option<MeshScene> {
         Pose::from_axis_angle(axis, angle, t).ok()
     };
     let (pose_a, pose_b) = (pose(&mut u)?, pose(&mut u)?);
+    // then, per pose, an optional linear part applied before the rotation (`Pose` applies any
+    // matrix as given): read after both poses, so that an input ending there (exhausted bytes
+    // read as zeros: kind 0) keeps the rigid poses it decoded to before this part existed
+    let linear = |u: &mut Unstructured<'_>, p: Pose<f64>| -> Option<Pose<f64>> {
+        let kind = u8::arbitrary(u).ok()? % 4;
+        if kind == 0 {
+            return Some(p);
+        }
+        let e = <[i8; 9]>::arbitrary(u).ok()?.map(i32::from);
+        let l: [[f64; 3]; 3] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| match kind {
+                // per-axis scales of 2^-4 to 2^4
+                1 => f64::from(u8::from(i == j)) * 2f64.powi(e[i] % 5),
+                // a shear: the identity plus off-diagonal entries of up to 2
+                2 => f64::from(u8::from(i == j)) + if i == j { 0.0 } else { f64::from(e[3 * i + j]) / 64.0 },
+                // any matrix with entries of up to 2 in steps of 1/64, singular ones included
+                _ => f64::from(e[3 * i + j]) / 64.0,
+            })
+        });
+        let r = p.rotation;
+        let m = std::array::from_fn(|i| std::array::from_fn(|j| (0..3).map(|k| r[i][k] * l[k][j]).sum()));
+        Some(Pose { rotation: m, translation: p.translation })
+    };
+    let (pose_a, pose_b) = (linear(&mut u, pose_a)?, linear(&mut u, pose_b)?);
     Some(MeshScene { family: "fuzz", a, b, pose_a, pose_b })
 }
