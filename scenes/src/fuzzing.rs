@@ -534,8 +534,7 @@ mod tests {
                 let r = p.rotation;
                 // the Gram matrix M^T M: the identity for a rotation, diagonal for scaled axes
                 let g = |a: usize, b: usize| (0..3).map(|k| r[k][a] * r[k][b]).sum::<f64>();
-                let off = (0..3).flat_map(|a| (0..3).filter(move |&b| b != a).map(move |b| (a, b)));
-                let diagonal = off.into_iter().all(|(a, b)| g(a, b).abs() < 1e-9);
+                let diagonal = (0..3).all(|a| (0..3).all(|b| a == b || g(a, b).abs() < 1e-9));
                 let unit = (0..3).all(|a| (g(a, a) - 1.0).abs() < 1e-9);
                 match (diagonal, unit) {
                     (true, true) => rigid += 1,
