@@ -107,6 +107,20 @@ pub struct Output<T> {
     pub counts: PathCounts,
 }
 
+impl<T: Float> Output<T> {
+    /// `n` pairs' worth of zeros (verdicts `Invalid`, no paths counted), to be written.
+    fn zeroed(n: usize) -> Self {
+        Output {
+            d: vec![T::ZERO; n],
+            p: vec![[T::ZERO; 3]; n],
+            q: vec![[T::ZERO; 3]; n],
+            iv: vec![Interval::default(); n],
+            verdict: vec![Intersection::Invalid; n],
+            counts: PathCounts::default(),
+        }
+    }
+}
+
 /// The primitives of a case for a query, as `K`-point arrays padded to 3 (by arity: triangle
 /// pairs as they are, segment pairs from edge 0 of each triangle, point-triangle from vertex 0
 /// of `b` against `a`).
@@ -155,16 +169,8 @@ pub fn run_with<T: Float>(
     cases: &[Case<T>],
     margins: Option<&[T]>,
 ) -> Result<Output<T>, tridist::Error> {
-    let n = cases.len();
-    let mut o = Output {
-        d: vec![T::ZERO; n],
-        p: vec![[T::ZERO; 3]; n],
-        q: vec![[T::ZERO; 3]; n],
-        iv: vec![Interval::default(); n],
-        verdict: vec![Intersection::Invalid; n],
-        counts: PathCounts::default(),
-    };
     if query == Query::Within {
+        let mut o = Output::zeroed(cases.len());
         for (i, c) in cases.iter().enumerate() {
             let m = margins.map_or_else(|| default_margin(c), |m| m[i]);
             let one = run_pairs(e.margin(m.to_f64())?, query, variant, std::slice::from_ref(c))?;
@@ -186,15 +192,7 @@ fn run_pairs<T: Float>(
     variant: Variant,
     cases: &[Case<T>],
 ) -> Result<Output<T>, tridist::Error> {
-    let n = cases.len();
-    let mut o = Output {
-        d: vec![T::ZERO; n],
-        p: vec![[T::ZERO; 3]; n],
-        q: vec![[T::ZERO; 3]; n],
-        iv: vec![Interval::default(); n],
-        verdict: vec![Intersection::Invalid; n],
-        counts: PathCounts::default(),
-    };
+    let mut o = Output::zeroed(cases.len());
     let (pa, pb): (Vec<_>, Vec<_>) = cases.iter().map(|c| prims(query, c)).unzip();
     // a verdict query computes no distance: asking it for one is an error
     let out = if query.is_verdict() {
