@@ -916,4 +916,25 @@ mod tests {
             assert_eq!(split[i].to_bits(), one[i].to_bits(), "pair {i}");
         }
     }
+
+    /// Every line of the crate's docs that states the default tolerance states the one
+    /// [`Tolerance::DEFAULT`] has (two lines said 32 where the code has 64).
+    #[test]
+    fn the_docs_state_the_default_tolerance() {
+        let want = format!("`{} u S`", Tolerance::DEFAULT.scaled);
+        let mut stated = 0;
+        for (file, text) in [
+            ("lib.rs", include_str!("lib.rs")),
+            ("single.rs", include_str!("single.rs")),
+            ("engine.rs", include_str!("engine.rs")),
+        ] {
+            for (n, line) in text.lines().enumerate() {
+                if line.contains("default") && line.contains(" u S`") && line.trim_start().starts_with("//") {
+                    assert!(line.contains(&want), "{file}:{}: {line}", n + 1);
+                    stated += 1;
+                }
+            }
+        }
+        assert!(stated >= 3, "{stated} lines state the default");
+    }
 }

@@ -37,7 +37,7 @@
 //! ## Precision
 //! Error is measured as `E = |sqrt(D^) - d*| / (u*S)` (u the unit roundoff, S the largest
 //! absolute coordinate), defined in `docs/ACCURACY.md` of the repository. Certified answers are
-//! within the tolerance (default `32 u S`); measured errors are far smaller.
+//! within the tolerance (default `64 u S`); measured errors are far smaller.
 //!
 //! ## Sources
 //! Segment-segment and point-triangle after Ericson, *Real-Time Collision Detection* (2005),

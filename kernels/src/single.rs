@@ -73,7 +73,7 @@ fn one<T: Real, P: AsPoint<T>>(query: Query, a: &[P], b: &[P]) -> Answer<T> {
 /// or points they are; NaN/inf input gives NaN; an overflowing result gives `+inf`.
 ///
 /// # Precision
-/// Within the default tolerance (`32 u S`) whenever certified; measured errors per input family
+/// Within the default tolerance (`64 u S`) whenever certified; measured errors per input family
 /// in `reports/ACCURACY.md`, bounds enforced by the test suite.
 ///
 /// # Performance
