@@ -46,10 +46,15 @@ pub(crate) struct CasesArgs {
     #[arg(long, default_value = "all")]
     family: String,
     /// Cases per family.
-    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(
+        long,
+        default_value_t = 100,
+        value_parser = clap::value_parser!(u32).range(1..),
+        allow_negative_numbers = true,
+    )]
     count: u32,
     /// Generator seed (the reports use 1898041687, or $TRIDIST_SEED).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     seed: Option<u64>,
     /// Precision of the coordinates.
     #[arg(long, value_enum, default_value = "f64")]
@@ -85,7 +90,7 @@ pub(crate) struct JudgeArgs {
     max_excess: Option<f64>,
     /// Fail (exit 1) when more cases than this are misclassified or non-finite (contact
     /// misses, false zeros beyond 8 u S, wrong verdicts, non-finite answers).
-    #[arg(long, value_name = "N", default_value_t = 0)]
+    #[arg(long, value_name = "N", default_value_t = 0, allow_negative_numbers = true)]
     max_misclassified: usize,
     /// Also write the table as JSON here.
     #[arg(long, value_name = "FILE")]

@@ -54,16 +54,16 @@ enum Cmd {
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         /// Cases per query, family and precision [default: 1500, --quick 150].
-        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
         cases: Option<u32>,
         /// Pairs per throughput workload [default: 20000, --quick 4000].
-        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
         pairs: Option<u32>,
         /// Time budget per throughput measurement in milliseconds [default: 400, --quick 60].
-        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
         budget_ms: Option<u32>,
         /// Poses of the mesh trajectory (MESH.md) [default: 12; 2 = the two ends only].
-        #[arg(long, value_parser = clap::value_parser!(u32).range(2..=1000))]
+        #[arg(long, value_parser = clap::value_parser!(u32).range(2..=1000), allow_negative_numbers = true)]
         mesh_poses: Option<u32>,
     },
     /// Answer the pairs on stdin with any kernel, or the exact oracle.
@@ -144,13 +144,13 @@ struct KernelArgs {
     #[arg(long, default_value = "default", value_parser = parse_tolerance)]
     tolerance: Tolerance,
     /// Threads (0: every core).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     threads: usize,
     /// Margin of the within-margin query (required for it).
     #[arg(long, value_parser = non_negative, allow_hyphen_values = true)]
     margin: Option<f64>,
     /// Penalty method: iteration limit.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     penalty_iters: Option<u32>,
     /// Penalty method: stop when the step is below this times S.
     #[arg(long, value_name = "X", value_parser = positive, allow_hyphen_values = true)]
@@ -190,7 +190,12 @@ struct BenchArgs {
     #[command(flatten)]
     k: KernelArgs,
     /// Timed passes (after one warm-up).
-    #[arg(long, default_value_t = 11, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(
+        long,
+        default_value_t = 11,
+        value_parser = clap::value_parser!(u32).range(1..),
+        allow_negative_numbers = true,
+    )]
     reps: u32,
     /// Time a peer's triangle-triangle distance on the same pairs instead (parry3d, fcl).
     #[arg(long, value_parser = parse_peer)]

@@ -27,12 +27,12 @@ pub struct MeshArgs {
     #[arg(long, value_parser = crate::non_negative, allow_hyphen_values = true)]
     pub margin: Option<f64>,
     /// With --margin: print at most this many contacts (the closest first).
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, allow_negative_numbers = true)]
     pub show: usize,
     /// With --margin: keep at most this many contacts, the closest (the search then narrows
     /// to the last one kept, so memory stays bounded whatever the margin); the count line
     /// then says "N or more".
-    #[arg(long, default_value_t = 1_000_000)]
+    #[arg(long, default_value_t = 1_000_000, allow_negative_numbers = true)]
     pub max_contacts: usize,
     /// The closest point of the second mesh to this point `x,y,z`.
     #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]

@@ -164,6 +164,16 @@ fn usage_errors_exit_2_with_the_usage_and_runtime_errors_exit_3_without() {
         &["eval", "--kernel", "within", "--margin", "-0.5"],
         &["eval", "--kernel", "penalty", "--penalty-tol", "-1"],
         &["judge", "--cases", "c", "--answers", "a", "--precision", "f32", "--max-excess", "-1"],
+        // integer options alike (they said "unexpected argument '-1' found")
+        &["eval", "--threads", "-1"],
+        &["eval", "--kernel", "penalty", "--penalty-iters", "-3"],
+        &["bench", "--input", "x", "--reps", "-2"],
+        &["cases", "--count", "-1"],
+        &["cases", "--seed", "-5"],
+        &["judge", "--cases", "c", "--answers", "a", "--precision", "f32", "--max-misclassified", "-1"],
+        &["mesh", "a", "b", "--show", "-1"],
+        &["mesh", "a", "b", "--max-contacts", "-1"],
+        &["report", "--pairs", "-4"],
     ] {
         let (code, _, err) = tridist(args, "");
         assert_eq!(code, 2, "{args:?}: {err}");
@@ -546,4 +556,74 @@ fn mesh_subcommand_answers_and_rejects_bad_input() {
     let (code, out, err) = tridist(&["mesh", a, a, "--pose-b", "1e39,0,0"], "");
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("intersect: no"), "{out}");
+}
+
+/// The lines `tridist mesh` prints for the contacts: `tri_a tri_b distance | p | q`.
+fn contact_lines(out: &str) -> Vec<(String, f64, String)> {
+    out.lines()
+        .filter(|l| l.starts_with("  "))
+        .map(|l| {
+            let (head, points) = l.trim().split_once(" | ").expect("a contact line");
+            let w: Vec<&str> = head.split_whitespace().collect();
+            assert_eq!(w.len(), 3, "{l}");
+            (format!("{} {}", w[0], w[1]), w[2].parse().unwrap(), points.to_string())
+        })
+        .collect()
+}
+
+/// `--pose-a` moves the first mesh (the same answers as the opposite `--pose-b`, the points in
+/// the world frame) and `--show` prints that many contacts, the closest first.
+#[test]
+fn mesh_pose_a_and_show() {
+    let d = tmp("mesh-pose-a");
+    let tet = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n";
+    let a = d.join("a.off");
+    std::fs::write(&a, tet).unwrap();
+    let a = a.to_str().unwrap();
+    let run = |args: &[&str]| {
+        let (code, out, err) = tridist(&[&["mesh", a, a, "--margin", "2.5"][..], args].concat(), "");
+        assert_eq!(code, 0, "{args:?}: {err}");
+        out
+    };
+    let (moved_b, moved_a) = (run(&["--pose-b", "3,0,0"]), run(&["--pose-a", "-3,0,0"]));
+    for out in [&moved_b, &moved_a] {
+        assert!(out.contains("distance: 2 (squared 4)") && out.contains("contacts within 2.5: 12 "), "{out}");
+    }
+    // the same pair, three units further left when the first mesh moves instead
+    assert!(moved_b.contains("closest points: 1 0 0 | 3 0 0"), "{moved_b}");
+    assert!(moved_a.contains("closest points: -2 0 0 | 0 0 0"), "{moved_a}");
+    // both poses at once: only their difference counts
+    let both = run(&["--pose-a", "-1,0,0", "--pose-b", "2,0,0"]);
+    assert!(
+        both.contains("distance: 2 (squared 4)") && both.contains("closest points: 0 0 0 | 2 0 0"),
+        "{both}"
+    );
+    // the default shows 10 of the 12; --show 2 the first two of them; --show 0 none
+    let all = contact_lines(&moved_a);
+    assert_eq!(all.len(), 10, "{moved_a}");
+    assert!(all.windows(2).all(|w| w[0].1 <= w[1].1), "closest first: {moved_a}");
+    assert_eq!(all[0].1, 2.0, "{moved_a}");
+    let two = contact_lines(&run(&["--pose-a", "-3,0,0", "--show", "2"]));
+    assert_eq!(two, all[..2], "--show 2");
+    let none = run(&["--pose-a", "-3,0,0", "--show", "0"]);
+    assert!(contact_lines(&none).is_empty() && none.contains("contacts within 2.5: 12 "), "{none}");
+}
+
+/// `eval --threads` answers a batch large enough to be split (at least
+/// `Engine::MIN_PARALLEL` pairs) exactly as one thread does; 0 means every core.
+#[test]
+fn eval_threads_give_one_threads_answers() {
+    let n = (tridist::Engine::MIN_PARALLEL / 11 + 1).to_string();
+    let (code, cases, err) = tridist(&["cases", "--count", &n, "--seed", "3", "--precision", "f32"], "");
+    assert_eq!(code, 0, "{err}");
+    let pairs = cases.lines().filter(|l| !l.is_empty() && !l.starts_with('#')).count();
+    assert!(pairs >= tridist::Engine::MIN_PARALLEL, "{pairs} pairs");
+    let mut answers = Vec::new();
+    for threads in ["1", "2", "0"] {
+        let (code, out, err) = tridist(&["eval", "--precision", "f32", "--threads", threads], &cases);
+        assert_eq!(code, 0, "--threads {threads}: {err}");
+        assert_eq!(out.lines().count(), pairs, "--threads {threads}");
+        answers.push(out);
+    }
+    assert!(answers.iter().all(|a| *a == answers[0]), "answers differ between thread counts");
 }
