@@ -726,3 +726,81 @@ fn the_exact_step_answers_what_no_float_stage_can() {
     check::<f32>(|q| tridist_oracle::round::to_f32(q) as f64);
     check::<f64>(tridist_oracle::round::to_f64);
 }
+
+/// The closest-point queries of segments, points and the brute-force triangle kernel, each by
+/// its free function and its engine method on every variant, on pairs whose answer is exact in
+/// binary (so every variant must give it exactly): which point lies on which primitive
+/// included.
+#[test]
+fn closest_points_of_segments_points_and_brute_triangles_by_name() {
+    type C = ([f64; 3], [f64; 3], f64);
+    type Seg = [[f64; 3]; 2];
+    fn check<T: tridist::Real>(what: &str, got: ClosestPoints<T>, want: C) {
+        let t = |p: [f64; 3]| p.map(T::from_f64);
+        assert_eq!((got.sqdist, got.p, got.q), (T::from_f64(want.2), t(want.0), t(want.1)), "{what}");
+    }
+    fn run<T: tridist::Real>() {
+        let v = |p: [f64; 3]| p.map(T::from_f64);
+        let x = [0.0, 0.0, 0.0];
+        let tri = [x, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]].map(v);
+        // (segment, segment, closest point on the first, on the second, squared distance)
+        let segs: [(Seg, Seg, C); 3] = [
+            (
+                [x, [1.0, 0.0, 0.0]],
+                [[0.5, 1.0, -1.0], [0.5, 1.0, 1.0]],
+                ([0.5, 0.0, 0.0], [0.5, 1.0, 0.0], 1.0),
+            ),
+            (
+                [x, [1.0, 0.0, 0.0]],
+                [[2.0, 1.0, 0.0], [3.0, 1.0, 0.0]],
+                ([1.0, 0.0, 0.0], [2.0, 1.0, 0.0], 2.0),
+            ),
+            ([x, [1.0, 0.0, 0.0]], [[0.25, 2.0, 0.0]; 2], ([0.25, 0.0, 0.0], [0.25, 2.0, 0.0], 4.0)),
+        ];
+        // (point, closest point of `tri`, squared distance): above the face, beyond a vertex,
+        // beyond the long edge, beyond a short edge
+        let pts: [([f64; 3], [f64; 3], f64); 4] = [
+            ([0.25, 0.25, 2.0], [0.25, 0.25, 0.0], 4.0),
+            ([2.0, -1.0, 0.0], [1.0, 0.0, 0.0], 2.0),
+            ([1.0, 1.0, 0.0], [0.5, 0.5, 0.0], 0.5),
+            ([-1.0, 0.5, 3.0], [0.0, 0.5, 0.0], 10.0),
+        ];
+        // a triangle whose lowest vertex is over the face of `tri`, and one swapped
+        let over = [[0.25, 0.25, 2.0], [3.0, 0.25, 5.0], [0.25, 3.0, 5.0]].map(v);
+        for e in engines() {
+            for (a, b, want) in segs {
+                let (a, b) = (a.map(v), b.map(v));
+                check(
+                    &format!("segments {a:?} {b:?}"),
+                    tridist::closest_points_segment_segment(&a, &b),
+                    want,
+                );
+                let mut out = [ClosestPoints::default()];
+                e.closest_points_segment_segment(&[a][..], &[b][..], &mut out).unwrap();
+                check(&format!("{e:?} segments {a:?} {b:?}"), out[0], want);
+            }
+            for (p, q, d) in pts {
+                let p = v(p);
+                let want = (p.map(|c| c.to_f64()), q, d);
+                check(&format!("point {p:?}"), tridist::closest_point_point_triangle(&p, &tri), want);
+                let mut out = [ClosestPoints::default()];
+                e.closest_point_point_triangle(&[[p]][..], &[tri][..], &mut out).unwrap();
+                check(&format!("{e:?} point {p:?}"), out[0], want);
+            }
+            for (a, b, want) in [
+                (tri, over, ([0.25, 0.25, 0.0], [0.25, 0.25, 2.0], 4.0)),
+                (over, tri, ([0.25, 0.25, 2.0], [0.25, 0.25, 0.0], 4.0)),
+            ] {
+                check("brute", tridist::closest_points_triangle_triangle_brute(&a, &b), want);
+                let mut out = [ClosestPoints::default()];
+                e.closest_points_triangle_triangle_brute(&[a][..], &[b][..], &mut out).unwrap();
+                check(&format!("{e:?} brute"), out[0], want);
+                let mut d = [T::ZERO];
+                e.sqdist_triangle_triangle_brute(&[a][..], &[b][..], &mut d).unwrap();
+                assert_eq!(d[0], T::from_f64(want.2), "{e:?} brute squared distance");
+            }
+        }
+    }
+    run::<f32>();
+    run::<f64>();
+}
