@@ -133,7 +133,8 @@ struct KernelArgs {
     /// The query whose exact answer `--kernel oracle` prints.
     #[arg(long, default_value = "tri_tri", value_parser = parse_query)]
     query: Query,
-    /// Instruction set and layout.
+    /// Instruction set and layout (`auto`: the best this CPU runs, or the one `TRIDIST_ISA`
+    /// names).
     #[arg(long, default_value = "auto", value_parser = parse_variant)]
     variant: Variant,
     /// Input and working precision.
@@ -234,6 +235,14 @@ fn parse_query(s: &str) -> Result<Query, String> {
 }
 
 pub(crate) fn parse_variant(s: &str) -> Result<Variant, String> {
+    if s == "auto" {
+        // as the library's `Engine::auto`, but a variable that names no usable variant is an
+        // error here, not a silent fallback (a run under valgrind with TRIDIST_ISA=avx2fma
+        // must not meet AVX-512)
+        return tridist::Engine::from_env().map(|e| Variant::from_isa(e.isa())).map_err(|e| {
+            format!("{}={:?}: {e}", tridist::ISA_ENV, std::env::var(tridist::ISA_ENV).unwrap_or_default())
+        });
+    }
     Variant::parse(s).ok_or_else(|| "unknown variant (scalar, soa, sse41, avx, avx2fma, avx512, auto)".into())
 }
 

@@ -40,7 +40,8 @@ pub struct MeshArgs {
     /// Working precision (the meshes are rounded to it).
     #[arg(long, value_enum, default_value = "f64")]
     pub precision: Prec,
-    /// Instruction set of the leaf kernels.
+    /// Instruction set of the leaf kernels (`auto`: the best this CPU runs, or the one
+    /// `TRIDIST_ISA` names).
     #[arg(long, default_value = "auto", value_parser = parse_variant)]
     pub variant: Variant,
 }

@@ -4,7 +4,7 @@
 //! `report` whose CSV is parsed back and whose plots are well-formed SVG.
 
 mod common;
-use common::tridist;
+use common::{tridist, tridist_isa};
 
 fn tmp(name: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("tridist-cli-{}-{name}", std::process::id()));
@@ -626,4 +626,47 @@ fn eval_threads_give_one_threads_answers() {
         answers.push(out);
     }
     assert!(answers.iter().all(|a| *a == answers[0]), "answers differ between thread counts");
+}
+
+/// `--variant auto` (the default) runs the variant `TRIDIST_ISA` names, as `Engine::auto` does;
+/// unset, the best one; a name that is no usable variant is a usage error, not a fallback.
+#[test]
+fn variant_auto_follows_tridist_isa() {
+    let d = tmp("variant-auto");
+    let tet = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n";
+    let a = d.join("a.off");
+    std::fs::write(&a, tet).unwrap();
+    let a = a.to_str().unwrap();
+    // the first line of `tridist mesh` names the instruction set it runs
+    let runs = |isa: Option<&str>| {
+        let (code, out, err) = tridist_isa(&["mesh", a, a, "--pose-b", "3,0,0"], "", isa);
+        assert_eq!(code, 0, "TRIDIST_ISA={isa:?}: {err}");
+        assert!(out.contains("distance: 2 "), "{out}");
+        out.lines().next().unwrap().rsplit(' ').nth(1).unwrap().to_string()
+    };
+    let best = tridist::Isa::best();
+    let name =
+        |i: tridist::Isa| if i == tridist::Isa::Scalar { "soa".to_string() } else { i.name().to_string() };
+    assert_eq!(runs(None), best.name());
+    assert_eq!(runs(Some("")), best.name());
+    for isa in tridist::Isa::ALL.into_iter().filter(|i| i.is_available()) {
+        assert_eq!(runs(Some(isa.name())), isa.name());
+        // eval alike: the same answers as --variant named
+        let pair = "p 0 0 0 1 0 0 0 1 0 0.25 0.25 2 3 0.25 5 0.25 3 5\n";
+        let (code, auto, err) = tridist_isa(&["eval"], pair, Some(isa.name()));
+        assert_eq!(code, 0, "{err}");
+        let (_, named, _) = tridist(&["eval", "--variant", &name(isa)], pair);
+        assert_eq!((auto.as_str(), named.as_str()), ("p 4.0\n", "p 4.0\n"));
+    }
+    for bad in ["avx1024", "AVX2FMA"] {
+        let (code, out, err) = tridist_isa(&["mesh", a, a], "", Some(bad));
+        assert_eq!(code, 2, "TRIDIST_ISA={bad}: {out}{err}");
+        assert!(out.is_empty() && err.contains("TRIDIST_ISA") && err.contains("unknown variant"), "{err}");
+    }
+    // a variant this CPU lacks, where there is one
+    if let Some(lacking) = tridist::Isa::ALL.into_iter().find(|i| !i.is_available()) {
+        let (code, _, err) = tridist_isa(&["eval"], "", Some(lacking.name()));
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("not available") || err.contains("not compiled"), "{err}");
+    }
 }

@@ -5,7 +5,24 @@ use std::process::{Command, Stdio};
 
 /// Runs `tridist args` with `stdin`; returns (exit status, stdout, stderr).
 pub fn tridist(args: &[&str], stdin: &str) -> (i32, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_tridist"))
+    tridist_env(args, stdin, None)
+}
+
+/// [`tridist`] with `TRIDIST_ISA` set to `isa` (`None`: removed).
+#[allow(dead_code)] // (each test binary compiles this module; not all use this)
+pub fn tridist_isa(args: &[&str], stdin: &str, isa: Option<&str>) -> (i32, String, String) {
+    tridist_env(args, stdin, Some(isa))
+}
+
+/// [`tridist`], `TRIDIST_ISA` inherited (`None`) or set (`Some(Some(v))`) or removed.
+fn tridist_env(args: &[&str], stdin: &str, isa: Option<Option<&str>>) -> (i32, String, String) {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_tridist"));
+    match isa {
+        Some(Some(v)) => cmd.env(tridist::ISA_ENV, v),
+        Some(None) => cmd.env_remove(tridist::ISA_ENV),
+        None => &mut cmd,
+    };
+    let mut child = cmd
         .args(args)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
