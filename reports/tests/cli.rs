@@ -12,6 +12,15 @@ fn tmp(name: &str) -> std::path::PathBuf {
     d
 }
 
+/// The tetrahedron of the corner (0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1) as an OFF file in
+/// [`tmp`]`(name)`; its path.
+fn tetrahedron(name: &str) -> String {
+    let a = tmp(name).join("a.off");
+    let tet = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n";
+    std::fs::write(&a, tet).unwrap();
+    a.to_str().unwrap().to_string()
+}
+
 const PAIRS: &str = "# comment\n\nfar 0 0 0 1 0 0 0 1 0 0 0 2 1 0 2 0 1 2\npierce 0 0 0 1 0 0 0 1 0 0.2 0.2 -1 0.2 0.2 1 5 5 0.5\n";
 
 /// Random-ish pairs of every kind: apart, piercing, touching, parallel, far from the origin.
@@ -468,12 +477,9 @@ fn closed_standard_output_ends_quietly() {
 /// axis, a translation beyond f32's range) and a bad margin.
 #[test]
 fn mesh_subcommand_answers_and_rejects_bad_input() {
-    let d = tmp("mesh");
-    let tet = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n";
-    let (a, bad) = (d.join("a.off"), d.join("bad.off"));
-    std::fs::write(&a, tet).unwrap();
+    let (a, bad) = (tetrahedron("mesh"), tmp("mesh").join("bad.off"));
+    let a = a.as_str();
     std::fs::write(&bad, "OFF\n4 4 0\n0 0 0\n1 0 0\n").unwrap();
-    let a = a.to_str().unwrap();
     for prec in ["f32", "f64"] {
         let (code, out, err) = tridist(
             &["mesh", a, a, "--pose-b", "3,0,0", "--margin", "2.5", "--point", "5,0,0", "--precision", prec],
@@ -575,11 +581,8 @@ fn contact_lines(out: &str) -> Vec<(String, f64, String)> {
 /// the world frame) and `--show` prints that many contacts, the closest first.
 #[test]
 fn mesh_pose_a_and_show() {
-    let d = tmp("mesh-pose-a");
-    let tet = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n";
-    let a = d.join("a.off");
-    std::fs::write(&a, tet).unwrap();
-    let a = a.to_str().unwrap();
+    let a = tetrahedron("mesh-pose-a");
+    let a = a.as_str();
     let run = |args: &[&str]| {
         let (code, out, err) = tridist(&[&["mesh", a, a, "--margin", "2.5"][..], args].concat(), "");
         assert_eq!(code, 0, "{args:?}: {err}");
@@ -632,11 +635,8 @@ fn eval_threads_give_one_threads_answers() {
 /// unset, the best one; a name that is no usable variant is a usage error, not a fallback.
 #[test]
 fn variant_auto_follows_tridist_isa() {
-    let d = tmp("variant-auto");
-    let tet = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n";
-    let a = d.join("a.off");
-    std::fs::write(&a, tet).unwrap();
-    let a = a.to_str().unwrap();
+    let a = tetrahedron("variant-auto");
+    let a = a.as_str();
     // the first line of `tridist mesh` names the instruction set it runs
     let runs = |isa: Option<&str>| {
         let (code, out, err) = tridist_isa(&["mesh", a, a, "--pose-b", "3,0,0"], "", isa);
