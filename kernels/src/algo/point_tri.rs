@@ -51,11 +51,15 @@ pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) 
     // n is scaled by a power of two to unit magnitude (exact; only signs and the direction are
     // used): triple products multiply four lengths and underflowed for a needle of aspect 1e22
     // in f32 (found by fuzzing: a point inside it came back 27000 u S away).
+    // Each triple product takes one side as an edge, `(a - x) x (b - x) = (a - x) x (b - a)`:
+    // the differences of `x` to two vertices of a short edge round to the same vector when `x`
+    // is far from it, and their cross product to zero (found by fuzzing: f32, a needle 0.09
+    // wide and 1e18 long, its short edge taken for the closest feature, E 21011).
     let tri_edges = [ab, cv.sub(b), a.sub(cv)];
     let n = normal(&tri_edges);
     let n = n.scale(n.norm_inf().max(k.splat(L::S::MIN_POSITIVE)).recip_exponent());
-    let (xa, xb, xc) = (a.sub(x), b.sub(x), cv.sub(x));
-    let vc = n.dot(xa.cross_accurate(xb));
+    let (xa, xb) = (a.sub(x), b.sub(x));
+    let vc = n.dot(xa.cross_accurate(tri_edges[0]));
     let m_ab = vc.le(z).and(d1.ge(z)).and(d3.le(z)).andnot(done);
     if m_ab.any() {
         let v = d1.safe_div(d1.sub(d3));
@@ -68,14 +72,14 @@ pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) 
     let m_c = d6.ge(z).and(d5.le(d6)).andnot(done);
     q = V3::select(m_c, cv, q);
     done = done.or(m_c);
-    let vb = n.dot(xc.cross_accurate(xa));
+    let vb = n.dot(xa.cross_accurate(tri_edges[2]));
     let m_ac = vb.le(z).and(d2.ge(z)).and(d6.le(z)).andnot(done);
     if m_ac.any() {
         let w = d2.safe_div(d2.sub(d6));
         q = V3::select(m_ac, a.add_scaled(ac, w), q);
     }
     done = done.or(m_ac);
-    let va = n.dot(xb.cross_accurate(xc));
+    let va = n.dot(xb.cross_accurate(tri_edges[1]));
     let d43 = d4.sub(d3);
     let d56 = d5.sub(d6);
     let m_bc = va.le(z).and(d43.ge(z)).and(d56.ge(z)).andnot(done);
