@@ -236,12 +236,8 @@ fn parse_query(s: &str) -> Result<Query, String> {
 
 pub(crate) fn parse_variant(s: &str) -> Result<Variant, String> {
     if s == "auto" {
-        // as the library's `Engine::auto`, but a variable that names no usable variant is an
-        // error here, not a silent fallback (a run under valgrind with TRIDIST_ISA=avx2fma
-        // must not meet AVX-512)
-        return tridist::Engine::from_env().map(|e| Variant::from_isa(e.isa())).map_err(|e| {
-            format!("{}={:?}: {e}", tridist::ISA_ENV, std::env::var(tridist::ISA_ENV).unwrap_or_default())
-        });
+        // (a run under valgrind with TRIDIST_ISA=avx2fma must not meet AVX-512)
+        return Variant::auto().map_err(|e| format!("{}: {e}", tridist::ISA_ENV));
     }
     Variant::parse(s).ok_or_else(|| "unknown variant (scalar, soa, sse41, avx, avx2fma, avx512, auto)".into())
 }

@@ -514,9 +514,9 @@ fn mesh_subcommand_answers_and_rejects_bad_input() {
         tridist(&["mesh", a, a, "--pose-b", "3,0,0", "--margin", "2.5", "--max-contacts", "3"], "");
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("contacts within 2.5: 3 or more (stopped at --max-contacts;"), "{out}");
-    let kept: Vec<&str> = out.lines().filter(|l| l.starts_with("  ")).collect();
+    let kept = contact_lines(&out);
     assert_eq!(kept.len(), 3, "{out}");
-    assert!(kept.iter().all(|l| l.split_whitespace().nth(2) == Some("2")), "{out}");
+    assert!(kept.iter().all(|c| c.1 == 2.0), "{out}");
     let (code, out, _) = tridist(&["mesh", a, a, "--pose-b", "0.25,0.25,0.25"], "");
     assert_eq!(code, 0);
     assert!(out.contains("intersect: yes"), "{out}");
@@ -645,8 +645,6 @@ fn variant_auto_follows_tridist_isa() {
         out.lines().next().unwrap().rsplit(' ').nth(1).unwrap().to_string()
     };
     let best = tridist::Isa::best();
-    let name =
-        |i: tridist::Isa| if i == tridist::Isa::Scalar { "soa".to_string() } else { i.name().to_string() };
     assert_eq!(runs(None), best.name());
     assert_eq!(runs(Some("")), best.name());
     for isa in tridist::Isa::ALL.into_iter().filter(|i| i.is_available()) {
@@ -655,7 +653,8 @@ fn variant_auto_follows_tridist_isa() {
         let pair = "p 0 0 0 1 0 0 0 1 0 0.25 0.25 2 3 0.25 5 0.25 3 5\n";
         let (code, auto, err) = tridist_isa(&["eval"], pair, Some(isa.name()));
         assert_eq!(code, 0, "{err}");
-        let (_, named, _) = tridist(&["eval", "--variant", &name(isa)], pair);
+        let named = tridist_scenes::eval::Variant::from_isa(isa).name();
+        let (_, named, _) = tridist(&["eval", "--variant", named], pair);
         assert_eq!((auto.as_str(), named.as_str()), ("p 4.0\n", "p 4.0\n"));
     }
     for bad in ["avx1024", "AVX2FMA"] {

@@ -45,12 +45,15 @@ impl Variant {
             Variant::Avx512 => "avx512",
         }
     }
-    /// Parses [`Variant::name`] (`auto` = the best available SoA variant).
+    /// Parses [`Variant::name`] (`auto` is [`Variant::auto`]).
     pub fn parse(s: &str) -> Option<Variant> {
-        if s == "auto" {
-            return Some(Variant::from_isa(Isa::best()));
-        }
         Variant::ALL.into_iter().find(|v| v.name() == s)
+    }
+    /// The SoA variant of the instruction set `TRIDIST_ISA` names, or of the best available
+    /// one when it is unset or empty ([`tridist::Engine::from_env`]: a name that is no usable
+    /// variant is an error, not `Engine::auto`'s fallback).
+    pub fn auto() -> Result<Variant, tridist::Error> {
+        tridist::Engine::from_env().map(|e| Variant::from_isa(e.isa()))
     }
     /// The instruction set it runs.
     pub fn isa(self) -> Isa {

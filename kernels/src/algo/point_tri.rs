@@ -59,7 +59,7 @@ pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) 
     let n = normal(&tri_edges);
     let n = n.scale(n.norm_inf().max(k.splat(L::S::MIN_POSITIVE)).recip_exponent());
     let (xa, xb) = (a.sub(x), b.sub(x));
-    let vc = n.dot(xa.cross_accurate(tri_edges[0]));
+    let vc = n.dot(xa.cross_accurate(ab));
     let m_ab = vc.le(z).and(d1.ge(z)).and(d3.le(z)).andnot(done);
     if m_ab.any() {
         let v = d1.safe_div(d1.sub(d3));
