@@ -89,8 +89,45 @@ fn load<T: Real>(path: &std::path::Path) -> Result<Mesh<T>, Fail> {
     Mesh::new(v, m.triangles).map_err(|e| Fail(format!("{}: {e}", path.display())))
 }
 
+/// A number as the shortest decimal that reads back to it, in exponent form when plain
+/// notation would run past 16 digits of zeros (`1e200`, not two hundred digits).
+fn num(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-5..1e16).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 fn fmt3<T: Real>(p: [T; 3]) -> String {
-    format!("{} {} {}", p[0].to_f64(), p[1].to_f64(), p[2].to_f64())
+    format!("{} {} {}", num(p[0].to_f64()), num(p[1].to_f64()), num(p[2].to_f64()))
+}
+
+/// The distance of an answer: the root of its squared distance, or, where that square
+/// overflowed to `+inf` (the documented answer; its closest points stay finite), the distance
+/// of the closest points, computed without squaring them whole (halved, then scaled by their
+/// largest component, so only a distance beyond the largest f64 is infinite).
+fn distance<T: Real>(sqdist: T, p: [T; 3], q: [T; 3]) -> f64 {
+    let s = sqdist.to_f64();
+    if s.is_finite() || s.is_nan() {
+        return s.sqrt();
+    }
+    let half = [0, 1, 2].map(|k| q[k].to_f64() * 0.5 - p[k].to_f64() * 0.5);
+    let m = half.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+    if m == 0.0 || !m.is_finite() {
+        return s;
+    }
+    2.0 * m * half.iter().map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
+}
+
+/// How a squared distance prints: its value, or that it overflowed.
+fn squared<T: Real>(sqdist: T) -> String {
+    let s = sqdist.to_f64();
+    if s == f64::INFINITY {
+        format!("overflows {}", T::PRECISION.name())
+    } else {
+        num(s)
+    }
 }
 
 pub fn cmd_mesh(a: &MeshArgs) -> Result<ExitCode, Fail> {
@@ -125,7 +162,7 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
     let t0 = Instant::now();
     match e.mesh_distance(&ma, &pa, &mb, &pb)? {
         Some(d) => {
-            outln!("distance: {} (squared {})", d.sqdist.to_f64().sqrt(), d.sqdist.to_f64());
+            outln!("distance: {} (squared {})", num(distance(d.sqdist, d.p, d.q)), squared(d.sqdist));
             outln!("closest points: {} | {}", fmt3(d.p), fmt3(d.q));
             outln!("triangle pair: {} {}", d.tri_a, d.tri_b);
         }
@@ -140,15 +177,19 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
     outln!("intersection query: {:.3} ms", t0.elapsed().as_secs_f64() * 1e3);
     if let Some(m) = a.margin {
         let t0 = Instant::now();
+        if !T::from_f64(m).is_finite() {
+            return Err(Fail(format!("--margin {} is beyond the range of {}", num(m), T::PRECISION.name())));
+        }
         let c = e.mesh_contacts(&ma, &pa, &mb, &pb, T::from_f64(m), Some(a.max_contacts))?;
         let ms = t0.elapsed().as_secs_f64() * 1e3;
         if c.len() >= a.max_contacts {
-            outln!("contacts within {m}: {} or more (stopped at --max-contacts; {ms:.3} ms)", c.len());
+            outln!("contacts within {}: {} or more (stopped at --max-contacts; {ms:.3} ms)", num(m), c.len());
         } else {
-            outln!("contacts within {m}: {} ({ms:.3} ms)", c.len());
+            outln!("contacts within {}: {} ({ms:.3} ms)", num(m), c.len());
         }
         for k in c.iter().take(a.show) {
-            outln!("  {} {} {} | {} | {}", k.tri_a, k.tri_b, k.sqdist.to_f64().sqrt(), fmt3(k.p), fmt3(k.q));
+            let d = num(distance(k.sqdist, k.p, k.q));
+            outln!("  {} {} {d} | {} | {}", k.tri_a, k.tri_b, fmt3(k.p), fmt3(k.q));
         }
     }
     if let Some(x) = a.point {
@@ -156,7 +197,7 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
             Some(p) => outln!(
                 "closest point of the second mesh: {} at {} (triangle {})",
                 fmt3(p.point),
-                p.sqdist.to_f64().sqrt(),
+                num(distance(p.sqdist, x.map(T::from_f64), p.point)),
                 p.tri
             ),
             None => outln!("closest point: none (the second mesh is empty)"),

@@ -117,7 +117,7 @@ fn malformed_lines_are_reported_with_line_numbers_and_the_run_goes_on() {
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(lines, vec!["ok 4.0", "nan NaN"]);
     let (_, out, _) = tridist(&["eval", "--kernel", "oracle"], "inf 0 0 0 1 0 0 0 1 0 0 0 inf 1 0 2 0 1 2\n");
-    assert!(out.contains("error: non-finite"), "{out}");
+    assert!(out.contains("error: non-finite input"), "{out}");
     let (_, out, _) =
         tridist(&["eval", "--kernel", "intersect"], "nan 0 0 0 1 0 0 0 1 0 0 0 NaN 1 0 2 0 1 2\n");
     assert_eq!(out.trim(), "nan invalid");
@@ -487,26 +487,12 @@ fn mesh_subcommand_answers_and_rejects_bad_input() {
         );
         assert_eq!(code, 0, "{err}");
         // the face x = 0 of the moved copy against the vertex (1, 0, 0): distance 2
-        let dist: f64 = out
-            .lines()
-            .find_map(|l| l.strip_prefix("distance: "))
-            .and_then(|l| l.split_whitespace().next())
-            .expect("a distance line")
-            .parse()
-            .unwrap();
-        assert_eq!(dist, 2.0, "{out}");
+        assert_eq!(number_after(&out, "distance: "), 2.0, "{out}");
         assert!(out.contains("intersect: no"), "{out}");
         // within 2.5: the three triangles of the first holding (1, 0, 0) against the three of
         // the second holding (3, 0, 0) (distance 2) and against its slanted face (distance
         // sqrt(4.5)); the first's face x = 0 is 3 away: 12 pairs
-        let n: usize = out
-            .lines()
-            .find_map(|l| l.strip_prefix("contacts within 2.5: "))
-            .and_then(|l| l.split_whitespace().next())
-            .expect("a contacts line")
-            .parse()
-            .unwrap();
-        assert_eq!(n, 12, "{out}");
+        assert_eq!(number_after(&out, "contacts within 2.5: "), 12.0, "{out}");
         assert!(out.contains("closest point of the second mesh: 4 0 0 at 1 "), "{out}");
     }
     // --max-contacts keeps the closest: the three pairs at distance 2 of the 12, said as a floor
@@ -668,4 +654,49 @@ fn variant_auto_follows_tridist_isa() {
         assert_eq!(code, 2, "{err}");
         assert!(err.contains("not available") || err.contains("not compiled"), "{err}");
     }
+}
+
+/// The number after `prefix` on the line that starts with it.
+fn number_after(out: &str, prefix: &str) -> f64 {
+    out.lines()
+        .find_map(|l| l.strip_prefix(prefix))
+        .and_then(|l| l.split_whitespace().next())
+        .unwrap_or_else(|| panic!("no line {prefix:?} in {out}"))
+        .parse()
+        .unwrap_or_else(|e| panic!("{prefix:?}: {e} in {out}"))
+}
+
+/// Meshes so far apart that their squared distance overflows: the squared distance is the
+/// documented `+inf`, but the distances printed are the closest points' (they printed `inf`),
+/// and huge numbers print in exponent form (the margin printed 301 digits).
+#[test]
+fn mesh_distances_whose_squares_overflow() {
+    let a = tetrahedron("overflow");
+    let a = a.as_str();
+    let close = |x: f64, want: f64, what: &str, out: &str| {
+        assert!((x - want).abs() <= 1e-15 * want, "{what}: {x:e}, want {want:e}: {out}");
+    };
+    // the copy 1e200 along x: its vertex (1e200, 0, 0) against the first's (1, 0, 0)
+    let (code, out, err) =
+        tridist(&["mesh", a, a, "--pose-b", "1e200,0,0", "--point", "-1e200,0,0", "--margin", "1e300"], "");
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("(squared overflows f64)"), "{out}");
+    close(number_after(&out, "distance: "), 1e200, "distance", &out);
+    // (-1e200, 0, 0) against the copy's vertex (1e200, 0, 0)
+    close(number_after(&out, "closest point of the second mesh: 1e200 0 0 at "), 2e200, "point", &out);
+    // every pair of the 4 x 4 is within 1e300, the nearest first
+    assert!(out.contains("contacts within 1e300: 16 "), "{out}");
+    let c = contact_lines(&out);
+    assert_eq!(c.len(), 10, "{out}");
+    close(c[0].1, 1e200, "nearest contact", &out);
+    assert!(c.iter().all(|k| k.1.is_finite() && k.1 >= c[0].1), "{out}");
+    // f32: the copy 1e30 along x (the square, 1e60, is beyond f32)
+    let (code, out, err) = tridist(&["mesh", a, a, "--pose-b", "1e30,0,0", "--precision", "f32"], "");
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("(squared overflows f32)"), "{out}");
+    close(number_after(&out, "distance: "), f64::from(1e30f32) - 1.0, "f32 distance", &out);
+    // a margin beyond f32's range: said so (it was "margin must be finite and non-negative")
+    let (code, _, err) = tridist(&["mesh", a, a, "--margin", "1e300", "--precision", "f32"], "");
+    assert_eq!(code, 3, "{err}");
+    assert!(err.contains("--margin 1e300 is beyond the range of f32"), "{err}");
 }
