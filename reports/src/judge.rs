@@ -40,10 +40,19 @@ fn parse_judged(s: &str) -> Result<Query, String> {
     }
 }
 
+/// `all` or a family's name (anything else is a usage error).
+fn parse_family(s: &str) -> Result<String, String> {
+    if s == "all" || Family::parse(s).is_some() {
+        Ok(s.to_string())
+    } else {
+        Err(format!("unknown family {s:?} (`tridist cases --list` names them)"))
+    }
+}
+
 #[derive(Args, Debug)]
 pub(crate) struct CasesArgs {
     /// A family name, or `all` (see --list).
-    #[arg(long, default_value = "all")]
+    #[arg(long, default_value = "all", value_parser = parse_family)]
     family: String,
     /// Cases per family.
     #[arg(
@@ -107,9 +116,8 @@ pub(crate) fn cmd_cases(a: &CasesArgs) -> Result<ExitCode, Fail> {
     let families: Vec<Family> = if a.family == "all" {
         Family::ALL.to_vec()
     } else {
-        vec![Family::parse(&a.family).ok_or_else(|| {
-            Fail(format!("unknown family {:?} (`tridist cases --list` names them)", a.family))
-        })?]
+        // parse_family let only `all` and the families' names through
+        Family::parse(&a.family).into_iter().collect()
     };
     let seed = a.seed.unwrap_or_else(tridist_scenes::seed);
     let text = match a.precision {

@@ -142,7 +142,7 @@ struct KernelArgs {
     precision: Prec,
     /// Certified-interval tolerance: `default` (64 u S), `exact`, `K` or `scaled:K` (K u S),
     /// `abs:X`, `rel:R`, or a comma-separated combination (the widest applies).
-    #[arg(long, default_value = "default", value_parser = parse_tolerance)]
+    #[arg(long, default_value = "default", value_parser = parse_tolerance, allow_hyphen_values = true)]
     tolerance: Tolerance,
     /// Threads (0: every core).
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
@@ -672,7 +672,8 @@ fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Resul
         e: f64,
         err: f64,
         qps: Option<f64>,
-        fits: bool,
+        /// Why it does not meet the tolerance (None: it does).
+        why: Option<String>,
     }
     let mut options = Vec::new();
     for v in Variant::ALL.into_iter().filter(|v| v.available()) {
@@ -693,8 +694,14 @@ fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Resul
                         && r.plain()
                 })
                 .map(|r| r.qps);
-            let fits = err <= tol && scale <= max_s && tol >= min_d;
-            options.push(Opt { v, p, e, err, qps, fits });
+            let why = if scale > max_s {
+                Some(format!("does not meet it (squared distances overflow {p} beyond S = {max_s:e})"))
+            } else if tol < min_d {
+                Some(format!("does not meet it (distances below {min_d:e} square to 0 in {p})"))
+            } else {
+                (err > tol).then(|| "does not meet it".to_string())
+            };
+            options.push(Opt { v, p, e, err, qps, why });
         }
     }
     for o in &options {
@@ -705,12 +712,12 @@ fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Resul
             o.e,
             o.err,
             o.qps.map(|q| format!("{q:.0}")).unwrap_or_else(|| "?".into()),
-            if o.fits { "meets the tolerance" } else { "does not meet it" }
+            o.why.as_deref().unwrap_or("meets the tolerance")
         );
     }
     let best = options
         .iter()
-        .filter(|o| o.fits && o.qps.is_some())
+        .filter(|o| o.why.is_none() && o.qps.is_some())
         .max_by(|a, b| a.qps.unwrap_or(0.0).total_cmp(&b.qps.unwrap_or(0.0)));
     match best {
         Some(o) => {

@@ -175,6 +175,9 @@ fn usage_errors_exit_2_with_the_usage_and_runtime_errors_exit_3_without() {
         &["judge", "--cases", "c", "--answers", "a", "--precision", "f32", "--max-excess", "-1"],
         // integer options alike (they said "unexpected argument '-1' found")
         &["eval", "--threads", "-1"],
+        // and the certificate's tolerance (it said "unexpected argument '-1' found")
+        &["eval", "--tolerance", "-1"],
+        &["bench", "--input", "x", "--tolerance", "-2"],
         &["eval", "--kernel", "penalty", "--penalty-iters", "-3"],
         &["bench", "--input", "x", "--reps", "-2"],
         &["cases", "--count", "-1"],
@@ -261,6 +264,20 @@ fn advise_reads_the_csv_and_picks_a_variant() {
         tridist(&["advise", "--scale", "1e3", "--tolerance", "1e-15", "--csv", csv.to_str().unwrap()], "");
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("no variant meets"));
+    // beyond f32's range, f32 says why it does not fit, although at S = 1e39 its bound alone
+    // would (E * 2^-24 * 1e39 is about 3.4e32 <= 1e33 for E near 6; it said only "does not
+    // meet it")
+    for (scale, tol, why) in [
+        ("1e39", "1e33", "does not meet it (squared distances overflow f32 beyond S = 5e18)"),
+        ("1e-30", "1e-30", "does not meet it (distances below 3.7e-23 square to 0 in f32)"),
+    ] {
+        let (code, out, _) =
+            tridist(&["advise", "--scale", scale, "--tolerance", tol, "--csv", csv.to_str().unwrap()], "");
+        assert_eq!(code, 0, "{out}");
+        let f32_lines: Vec<&str> = out.lines().filter(|l| l.contains(" f32: declared")).collect();
+        assert!(!f32_lines.is_empty() && f32_lines.iter().all(|l| l.ends_with(why)), "{out}");
+        assert!(out.contains("advice: scalar f64"), "{out}");
+    }
     std::fs::write(&csv, "not,a,throughput,table\n").unwrap();
     let (code, _, err) =
         tridist(&["advise", "--scale", "1", "--tolerance", "1", "--csv", csv.to_str().unwrap()], "");

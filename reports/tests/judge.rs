@@ -112,9 +112,10 @@ fn cases_are_reproducible_listed_and_carry_the_oracles_exact_answer() {
     assert_eq!(ours.lines().count(), answers.lines().count(), "{ours}");
     let (code, out, err, _) = judge(&ex, &ours, "f64", &["--max-excess", "8"], &d);
     assert_eq!(code, 0, "{out}{err}");
-    let (code, _, err) = tridist(&["cases", "--family", "nope"], "");
-    assert_eq!(code, 3);
-    assert!(err.contains("unknown family"), "{err}");
+    // an unknown family is a usage error (exit 2, before any work), as an unknown kernel is
+    let (code, out, err) = tridist(&["cases", "--family", "nope"], "");
+    assert_eq!(code, 2, "{err}");
+    assert!(out.is_empty() && err.contains("unknown family \"nope\"") && err.contains("--help"), "{err}");
 }
 
 /// Our kernel through files (`cases` -> `eval --points` -> `judge`) gives exactly the figures
