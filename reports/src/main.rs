@@ -672,7 +672,7 @@ fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Resul
         e: f64,
         err: f64,
         qps: Option<f64>,
-        /// Why it does not meet the tolerance (None: it does).
+        /// It does not meet the tolerance (`Some`), with the reason when it is not the bound.
         why: Option<String>,
     }
     let mut options = Vec::new();
@@ -695,11 +695,11 @@ fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Resul
                 })
                 .map(|r| r.qps);
             let why = if scale > max_s {
-                Some(format!("does not meet it (squared distances overflow {p} beyond S = {max_s:e})"))
+                Some(format!(" (squared distances overflow {p} beyond S = {max_s:e})"))
             } else if tol < min_d {
-                Some(format!("does not meet it (distances below {min_d:e} square to 0 in {p})"))
+                Some(format!(" (distances below {min_d:e} square to 0 in {p})"))
             } else {
-                (err > tol).then(|| "does not meet it".to_string())
+                (err > tol).then(String::new)
             };
             options.push(Opt { v, p, e, err, qps, why });
         }
@@ -712,7 +712,7 @@ fn cmd_advise(scale: f64, tol: f64, query: Query, csv: Option<PathBuf>) -> Resul
             o.e,
             o.err,
             o.qps.map(|q| format!("{q:.0}")).unwrap_or_else(|| "?".into()),
-            o.why.as_deref().unwrap_or("meets the tolerance")
+            o.why.as_ref().map_or("meets the tolerance".into(), |w| format!("does not meet it{w}"))
         );
     }
     let best = options

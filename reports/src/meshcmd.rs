@@ -106,7 +106,8 @@ fn fmt3<T: Real>(p: [T; 3]) -> String {
 /// The distance of an answer: the root of its squared distance, or, where that square
 /// overflowed to `+inf` (the documented answer; its closest points stay finite), the distance
 /// of the closest points, computed without squaring them whole (halved, then scaled by their
-/// largest component, so only a distance beyond the largest f64 is infinite).
+/// largest component, so only a distance beyond the largest f64 is infinite). An overflowed
+/// square has points far apart, so that component is finite and not 0.
 fn distance<T: Real>(sqdist: T, p: [T; 3], q: [T; 3]) -> f64 {
     let s = sqdist.to_f64();
     if s.is_finite() || s.is_nan() {
@@ -114,9 +115,6 @@ fn distance<T: Real>(sqdist: T, p: [T; 3], q: [T; 3]) -> f64 {
     }
     let half = [0, 1, 2].map(|k| q[k].to_f64() * 0.5 - p[k].to_f64() * 0.5);
     let m = half.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
-    if m == 0.0 || !m.is_finite() {
-        return s;
-    }
     2.0 * m * half.iter().map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
 }
 
