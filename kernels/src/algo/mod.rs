@@ -284,11 +284,21 @@ pub(crate) fn finish<L: Lanes, const KA: usize, const KB: usize, const TIGHT: bo
     } else {
         cert::certify::<L, KA, KB>(s, t, r.p, r.q)
     };
-    conclude(sc, c.lo, c.hi, origin, r, prm)
+    // The answer must agree with its own points: a distance answer is its points' distance, a
+    // contact answer (0) has its points together, within 8 u S. [`conclude`]'s interval test
+    // alone cannot see an answer too small by less than `lo + 8 u S`: a false overlap (d = 0)
+    // of the FMA variants' f32 separating-axis test, its points 23 u S apart, was accepted at
+    // `lo^2` with E 16.7 (`fuzz/regressions/tri_tri/fma-f32-answer-at-lo-near-parallel`).
+    // (The fast stage, which does not come here, has its own test of this, `FastOut::sharp`.)
+    let k = Cx::of(r.d);
+    let reach = r.d.sqrt().add(k.u().mul(k.c(8.0)).mul(sc.m.mul(sc.inv)));
+    let own = r.p.sub(r.q).norm2().le(reach.mul(reach));
+    conclude(sc, c.lo, c.hi, origin, r, prm, own)
 }
 
 /// Decides acceptance of an answer `r` with certified interval `[lo, hi]` (prescaled, points
-/// relative to `origin` when given) and undoes the scaling (see [`finish`]).
+/// relative to `origin` when given) and undoes the scaling (see [`finish`]). `sharp`: the
+/// stage's own test that its answer agrees with its points (also required).
 #[inline(always)]
 pub(crate) fn conclude<L: Lanes>(
     sc: &Scaled<L, 6>,
@@ -297,6 +307,7 @@ pub(crate) fn conclude<L: Lanes>(
     origin: Option<V3<L>>,
     r: Res<L>,
     prm: &Params<L::S>,
+    sharp: L::M,
 ) -> Out<L> {
     let c = cert::Cert { lo, hi };
     // Accepted when the interval is within the tolerance *and* the algorithm's own distance is
@@ -307,7 +318,7 @@ pub(crate) fn conclude<L: Lanes>(
     let lo_e = c.lo.sub(eps).max(k.zero());
     let hi_e = c.hi.add(eps);
     let consistent = r.d.ge(lo_e.mul(lo_e)).and(r.d.le(hi_e.mul(hi_e)));
-    let ok = accept(c.lo, c.hi, sc, prm).and(consistent);
+    let ok = accept(c.lo, c.hi, sc, prm).and(consistent).and(sharp);
     // The algorithm's own answer (exactly 0 for contact, accurately rounded otherwise; points
     // on their primitives up to rounding), with the distance kept inside the certified
     // interval.

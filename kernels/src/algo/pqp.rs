@@ -31,9 +31,7 @@ impl Kernel for TriTri {
             // stage (all 15 candidates and contact), in the same local frame
             let (ls, lt, o) = local_pair(a, b, &sc);
             let f = if ST == 0 { tri_tri_quick(&ls, &lt) } else { tri_tri_fast(&ls, &lt) };
-            let mut out = conclude(&sc, f.lo, f.hi, Some(o), f.r, prm);
-            out.ok = out.ok.and(f.sharp.or(sc.finite.not()));
-            out
+            conclude(&sc, f.lo, f.hi, Some(o), f.r, prm, f.sharp)
         } else {
             let (r, undecided) = tri_tri_pqp(&s, &t);
             // (only pairs the fast stage could not certify reach here: certify tightly)
