@@ -92,9 +92,10 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 /// direction, or a contact, or its tight interval (re-certification, accurate stage) no wider
 /// than `5 u S` plus the certificate's own `12 u d` slack, so that a wrong pair of points
 /// that happens to lie within a loose tolerance still goes on to the accurate stages
-/// (ACCURACY.md's measured error is far below the default tolerance). Every stage but the
-/// fast one (of every query) also accepts an answer only when it agrees with its own closest
-/// points, `|p - q| <= sqrt(d) + 8 u S`: a contact answer (0) has its points together.
+/// (ACCURACY.md's measured error is far below the default tolerance). Every stage of the
+/// distance queries but triangle-triangle's fast one (which has the rule above) also accepts
+/// an answer only when it agrees with its own closest points, `|p - q| <= sqrt(d) + 8 u S`:
+/// a contact answer (0) has its points within `8 u S` of each other.
 ///
 /// The penalty method is never escalated (the caller chose an approximation): its interval
 /// says how far off it is.
