@@ -290,10 +290,16 @@ pub(crate) fn finish<L: Lanes, const KA: usize, const KB: usize, const TIGHT: bo
     // of the FMA variants' f32 separating-axis test, its points 23 u S apart, was accepted at
     // `lo^2` with E 16.7 (`fuzz/regressions/tri_tri/fma-f32-answer-at-lo-near-parallel`).
     // (The fast stage, which does not come here, has its own test of this, `FastOut::sharp`.)
-    let k = Cx::of(r.d);
-    let reach = r.d.sqrt().add(k.u().mul(k.c(8.0)).mul(sc.m.mul(sc.inv)));
+    let reach = r.d.sqrt().add(rounding_allowance(sc));
     let own = r.p.sub(r.q).norm2().le(reach.mul(reach));
     conclude(sc, c.lo, c.hi, origin, r, prm, own)
+}
+
+/// The rounding an answer may show against its own interval and points: 8 u S, prescaled.
+#[inline(always)]
+fn rounding_allowance<L: Lanes>(sc: &Scaled<L, 6>) -> L {
+    let k = Cx::of(sc.m);
+    k.u().mul(k.c(8.0)).mul(sc.m.mul(sc.inv))
 }
 
 /// Decides acceptance of an answer `r` with certified interval `[lo, hi]` (prescaled, points
@@ -314,7 +320,7 @@ pub(crate) fn conclude<L: Lanes>(
     // consistent with it (within 8 u S, its own rounding): a wrong answer with a narrow
     // interval around the right one is not passed off as right.
     let k = Cx::of(c.lo);
-    let eps = k.u().mul(k.c(8.0)).mul(sc.m.mul(sc.inv));
+    let eps = rounding_allowance(sc);
     let lo_e = c.lo.sub(eps).max(k.zero());
     let hi_e = c.hi.add(eps);
     let consistent = r.d.ge(lo_e.mul(lo_e)).and(r.d.le(hi_e.mul(hi_e)));
@@ -422,11 +428,16 @@ pub(crate) fn unscale<L: Lanes>(r: Res<L>, lo: L, hi: L, ok: L::M, sc: &Scaled<L
     let lo = lo.mul(p).sub(tiny).max(k.zero());
     let hi = hi.mul(p).add(tiny);
     // A prescaled square below the normal range lost its bits (a distance under about
-    // `sqrt(MIN_POSITIVE) S`, e.g. 1 apart at 3e38 in f32, squared to 0): answer the square of
-    // `lo`, rounded once, where that is larger, so the answer stays the square of a distance
-    // in the interval (the tolerance's guarantee). Normal squares are left as they are.
+    // `sqrt(MIN_POSITIVE) S`, e.g. 1 apart at 3e38 in f32, squared to 0), and so did
+    // [`conclude`]'s clamp to `hi^2` there (a subnormal `hi^2` rounds up by up to half a
+    // subnormal step, times p^2 here): keep it between the squares of `lo` and `hi`, each
+    // rounded once, after unscaling, so the answer stays the square of a distance in the
+    // interval (the tolerance's guarantee). Without the upper clamp, an f32 point 1.125 from
+    // a triangle at S 7.4e19 was answered 5.0625076 with hi 2.2500014
+    // (`fuzz/regressions/point_tri/scalar-f32-answer-above-hi-subnormal-square`).
+    // Normal squares are left as they are.
     let under = r.d.lt(k.splat(L::S::MIN_POSITIVE));
-    let d = L::select(under, d.max(lo.mul(lo)), d);
+    let d = L::select(under, d.max(lo.mul(lo)).min(hi.mul(hi)), d);
     let nan = k.nan();
     let nan3 = V3::splat(nan);
     let f = sc.finite;
