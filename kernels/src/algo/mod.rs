@@ -326,14 +326,13 @@ pub(crate) fn conclude<L: Lanes>(
     let consistent = r.d.ge(lo_e.mul(lo_e)).and(r.d.le(hi_e.mul(hi_e)));
     let ok = accept(c.lo, c.hi, sc, prm).and(consistent).and(sharp);
     // The algorithm's own answer (exactly 0 for contact, accurately rounded otherwise; points
-    // on their primitives up to rounding), with the distance kept inside the certified
-    // interval.
-    let d = r.d.max(c.lo.mul(c.lo)).min(c.hi.mul(c.hi));
+    // on their primitives up to rounding), its distance kept inside the certified interval
+    // by `unscale`.
     let (p, q) = match origin {
         Some(o) => (r.p.add(o), r.q.add(o)),
         None => (r.p, r.q),
     };
-    unscale(Res { d, p, q }, c.lo, c.hi, ok, sc)
+    unscale(Res { d: r.d, p, q }, c.lo, c.hi, ok, sc)
 }
 
 /// Re-certifies an earlier stage's answer (raw units: squared distance `d`, points `p` on the
@@ -427,17 +426,16 @@ pub(crate) fn unscale<L: Lanes>(r: Res<L>, lo: L, hi: L, ok: L::M, sc: &Scaled<L
     let tiny = k.splat(<L::S as crate::real::sealed::Sealed>::TINY);
     let lo = lo.mul(p).sub(tiny).max(k.zero());
     let hi = hi.mul(p).add(tiny);
-    // A prescaled square below the normal range lost its bits (a distance under about
-    // `sqrt(MIN_POSITIVE) S`, e.g. 1 apart at 3e38 in f32, squared to 0), and so did
-    // [`conclude`]'s clamp to `hi^2` there (a subnormal `hi^2` rounds up by up to half a
-    // subnormal step, times p^2 here): keep it between the squares of `lo` and `hi`, each
-    // rounded once, after unscaling, so the answer stays the square of a distance in the
-    // interval (the tolerance's guarantee). Without the upper clamp, an f32 point 1.125 from
-    // a triangle at S 7.4e19 was answered 5.0625076 with hi 2.2500014
+    // The answer kept between the squares of `lo` and `hi`, each rounded once, so that it is
+    // the square of a distance in the interval (the tolerance's guarantee). Clamped here, in
+    // the caller's units, not before unscaling: where everything is normal the two give the
+    // same bits (p is a power of two), but a prescaled square below the normal range has lost
+    // its bits (a distance under about `sqrt(MIN_POSITIVE) S`, e.g. 1 apart at 3e38 in f32,
+    // squared to 0), and so has a clamp to a subnormal prescaled `hi^2`, which rounds up by up
+    // to half a subnormal step, times p^2 here: an f32 point 1.125 from a triangle at S 7.4e19
+    // was answered 5.0625076 with hi 2.2500014 when only the lower end was clamped here
     // (`fuzz/regressions/point_tri/scalar-f32-answer-above-hi-subnormal-square`).
-    // Normal squares are left as they are.
-    let under = r.d.lt(k.splat(L::S::MIN_POSITIVE));
-    let d = L::select(under, d.max(lo.mul(lo)).min(hi.mul(hi)), d);
+    let d = d.max(lo.mul(lo)).min(hi.mul(hi));
     let nan = k.nan();
     let nan3 = V3::splat(nan);
     let f = sc.finite;
