@@ -21,8 +21,9 @@
 //! The differential tests (`scenes/tests/mesh.rs`) check this against an exact brute force over all pairs.
 //!
 //! # The tree
-//! A binary tree split at the median centroid along the widest axis, at most [`LEAF`]
-//! triangles per leaf, collapsed into a tree of up to [`Mesh::width`] children per node (a
+//! A binary tree of binned surface-area splits along the widest axis of the triangles' box
+//! centres (the median where no such split leaves two triangles on each side), at most
+//! [`LEAF`] triangles per leaf, collapsed into a tree of up to [`Mesh::width`] children per node (a
 //! node's children are the binary descendants found by opening the one of largest box area
 //! until there are that many: the same splits, so the same tree quality, at every width).
 //! [`DEFAULT_WIDTH`] is 4, from measurement: in the report's comparison of widths 2, 4 and 8
@@ -44,6 +45,26 @@
 //! lane per child, from the children's moved bounds stored together (a structure of arrays
 //! per group of siblings). Each node's moved bounds and each leaf's moved triangles are
 //! computed once per query.
+//!
+//! The splits, from measurement (2026-11-27, `spin mesh <query> <pose> f32 1 0.3` summed over
+//! the report's 12 trajectory poses and, `n<k>`, its 12 near-contact placements; builds
+//! alternated, a fuzz run on the other core). Against the median split along the widest
+//! axis, the surface-area split took distance 1.87 -> 1.47 ms along the trajectory and 0.90
+//! -> 0.67 ms at near contact, collision at near contact 0.63 -> 0.49 ms, and contacts 38.2 ->
+//! 36.7 and 4.05 -> 3.85 ms. Collision along the trajectory went 0.049 -> 0.064 ms, all at
+//! pose 7 (0.008 -> 0.038 ms: its first intersecting pair is met later in this tree). The
+//! build of both meshes went 39 -> 52 ms (`spin mesh build 0 f32 1 1.5`): the splits' own
+//! pass over each node's items, and a deeper tree (18 levels against 14 for the
+//! Armadillo, counted in a throwaway build). Tried and dropped:
+//! - the median along the principal axis of the centres (the split direction of Ytterlid and
+//!   Shellshear, JCGT 2015): distance 2.02-2.22 against 1.87-1.91 ms, near 1.03-1.12 against
+//!   0.93-0.98;
+//! - the surface-area split over all three axes: distance 1.48-1.50 ms and near 0.65-0.67, no
+//!   better than the widest axis alone (1.43 and 0.72 in the same round), for a build of 92 ms
+//!   where the widest axis took 64 (both before the sampling and the cheaper partition);
+//! - the surface-area split only in nodes of at least 64, 256 or 1024 triangles (the median
+//!   below): distance 2.10-2.48 ms, no better than the median; only in nodes of at most 64:
+//!   1.62 against 1.50 for every node. The splits near the leaves matter most.
 //!
 //! # The traversal
 //! From each node pair taken, the walk splits the larger node (all its children against the
@@ -307,16 +328,18 @@ impl<T: Real> Mesh<T> {
         }
         let verts: Vec<[f64; 3]> = self.vertices.iter().map(|v| v.map(Real::to_f64)).collect();
         let boxes: Vec<Aabb> = (0..n).map(|i| tri_box(&self.triangle(i))).collect();
-        // What the splits move: a triangle's box centre and number (small, so that the median
-        // selection moves little).
+        // What the splits move: a triangle's box centre and number (small, so that the splits
+        // move little; the boxes are read by number).
         let mut items: Vec<Item> = boxes
             .iter()
             .enumerate()
             .map(|(i, (lo, hi))| Item { c: [0, 1, 2].map(|k| 0.5 * lo[k] + 0.5 * hi[k]), tri: i as u32 })
             .collect();
-        // 1. The binary tree: median splits along the widest axis of the centres; a node's
-        // triangles stay `items[s..e]` (later splits only permute within a node's range).
-        // (a leaf holds at least two triangles, so there are fewer than `n` nodes)
+        // 1. The binary tree: binned surface-area splits along the widest axis of the boxes'
+        // centres ([`area_split`]), or the median where no such split leaves two triangles on
+        // each side; a node's triangles stay `items[s..e]` (later splits only permute within a
+        // node's range). (A leaf holds at least two triangles, so there are fewer than `n`
+        // nodes.)
         let mut bins = Vec::with_capacity(n);
         bins.push(Bin { lo: [0.0; 3], hi: [0.0; 3], s: 0, e: n, kids: None });
         let mut todo = vec![(0usize, 0usize, n)];
@@ -332,8 +355,14 @@ impl<T: Real> Mesh<T> {
                 }
             }
             let axis = (0..3).max_by(|&a, &b| (chi[a] - clo[a]).total_cmp(&(chi[b] - clo[b]))).unwrap_or(0);
-            let mid = s + (e - s) / 2;
-            items[s..e].select_nth_unstable_by(mid - s, |a, b| a.c[axis].total_cmp(&b.c[axis]));
+            let mid = match area_split(&mut items[s..e], &boxes, axis, clo[axis], chi[axis]) {
+                Some(left) => s + left,
+                None => {
+                    let mid = s + (e - s) / 2;
+                    items[s..e].select_nth_unstable_by(mid - s, |a, b| a.c[axis].total_cmp(&b.c[axis]));
+                    mid
+                }
+            };
             let left = bins.len();
             bins.push(Bin { lo: [0.0; 3], hi: [0.0; 3], s, e: mid, kids: None });
             bins.push(Bin { lo: [0.0; 3], hi: [0.0; 3], s: mid, e, kids: None });
@@ -469,6 +498,94 @@ impl<T: Real> Mesh<T> {
 struct Item {
     c: [f64; 3],
     tri: u32,
+}
+
+/// Bins of [`area_split`].
+const SPLIT_BINS: usize = 16;
+
+/// Most items [`area_split`] bins (a regular sample of larger nodes).
+const SPLIT_SAMPLE: usize = 1024;
+
+/// A binned surface-area split of `items` along axis `k` (their box centres from `lo` to `hi`
+/// along it; `boxes` the triangles' boxes by number): the centres' range cut into
+/// [`SPLIT_BINS`] equal bins (as many as items in smaller nodes), and the items split at the
+/// bin boundary that minimises the two sides' box areas times their triangle counts, the
+/// usual estimate of how often a query opens them, counted on a regular sample of at most
+/// [`SPLIT_SAMPLE`] items. Returns how many items it put first (every one of them with a
+/// smaller centre than every one after), or `None` where no boundary leaves two on each side
+/// (the caller takes the median). Why this split: the `mesh` module's docs.
+fn area_split(items: &mut [Item], boxes: &[Aabb], k: usize, lo: f64, hi: f64) -> Option<usize> {
+    // (no spread, or NaN)
+    if hi - lo <= 0.0 || (hi - lo).is_nan() {
+        return None;
+    }
+    // (as many bins as items in small nodes: the cost of the sweeps below follows the items)
+    let nb = items.len().min(SPLIT_BINS);
+    let scale = nb as f64 / (hi - lo);
+    // (the float-to-integer cast saturates: NaN and negatives go to bin 0)
+    let bin = |it: &Item| (((it.c[k] - lo) * scale) as usize).min(nb - 1);
+    let mut count = [0usize; SPLIT_BINS];
+    let mut bins = [([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]); SPLIT_BINS];
+    let step = items.len().div_ceil(SPLIT_SAMPLE);
+    for it in items.iter().step_by(step) {
+        let b = bin(it);
+        count[b] += 1;
+        unite(&mut bins[b], &boxes[it.tri as usize]);
+    }
+    // the area and count of every suffix of bins, then the cost at each boundary
+    let mut right = [(0.0, 0usize); SPLIT_BINS];
+    let (mut acc, mut m) = (([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]), 0);
+    for b in (1..nb).rev() {
+        unite(&mut acc, &bins[b]);
+        m += count[b];
+        right[b] = (half_area(&acc), m);
+    }
+    let mut best: Option<(f64, usize)> = None;
+    let (mut acc, mut m) = (([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]), 0);
+    for b in 0..nb - 1 {
+        unite(&mut acc, &bins[b]);
+        m += count[b];
+        let (area_r, m_r) = right[b + 1];
+        let cost = half_area(&acc) * m as f64 + area_r * m_r as f64;
+        if m >= 2 && m_r >= 2 && best.is_none_or(|(c, _)| cost < c) {
+            best = Some((cost, b));
+        }
+    }
+    let (_, cut) = best?;
+    // The items of bins up to `cut` first, each misplaced pair swapped once. (An item is in
+    // such a bin exactly when its scaled offset is below `cut + 1`: the same test as `bin`'s
+    // without the conversion, `cut + 1` being below the last bin's saturation.)
+    let left = |it: &Item| (it.c[k] - lo) * scale < (cut + 1) as f64;
+    let (mut first, mut end) = (0, items.len());
+    loop {
+        while first < end && left(&items[first]) {
+            first += 1;
+        }
+        while first < end && !left(&items[end - 1]) {
+            end -= 1;
+        }
+        if first >= end {
+            break;
+        }
+        items.swap(first, end - 1);
+        (first, end) = (first + 1, end - 1);
+    }
+    // (the sample saw two on each side; the whole may not)
+    (first >= 2 && items.len() - first >= 2).then_some(first)
+}
+
+/// Grows box `a` to hold box `b`.
+fn unite(a: &mut Aabb, b: &Aabb) {
+    for q in 0..3 {
+        a.0[q] = a.0[q].min(b.0[q]);
+        a.1[q] = a.1[q].max(b.1[q]);
+    }
+}
+
+/// Half a box's surface area (0 for an empty one).
+fn half_area(b: &Aabb) -> f64 {
+    let d = [0, 1, 2].map(|k| (b.1[k] - b.0[k]).max(0.0));
+    d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
 }
 
 /// An oriented box in the mesh frame, as a container that f64 rounding cannot break: the
@@ -1868,7 +1985,68 @@ impl Engine {
 
 #[cfg(test)]
 mod tests {
-    use super::{dot, principal_axes, Obb};
+    use super::{area_split, dot, principal_axes, Aabb, Item, Obb};
+
+    /// `area_split` cuts where the area estimate says, not at the median: 10 small boxes
+    /// around x = 0 and 30 around x = 100 (so the median would cut the second cluster) are
+    /// split into the two clusters; on random boxes every item put first has a smaller centre
+    /// than every item after, two at least on each side; and it declines (for the median)
+    /// where the centres do not spread or cannot leave two items on each side.
+    #[test]
+    fn area_splits_cut_between_clusters_and_partition_by_centre() {
+        let mut rnd = uniform(0x2545_f491_4f6c_dd1d);
+        let items_of = |boxes: &[Aabb]| -> Vec<Item> {
+            let c = |(lo, hi): &Aabb| [0, 1, 2].map(|k| 0.5 * lo[k] + 0.5 * hi[k]);
+            boxes.iter().enumerate().map(|(i, b)| Item { c: c(b), tri: i as u32 }).collect()
+        };
+        let range = |items: &[Item], k: usize| {
+            items
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), it| (l.min(it.c[k]), h.max(it.c[k])))
+        };
+        let mut boxes: Vec<Aabb> = Vec::new();
+        for (count, x) in [(10, 0.0), (30, 100.0)] {
+            for _ in 0..count {
+                let o = [x + rnd(), rnd(), rnd()];
+                boxes.push((o, [0, 1, 2].map(|k| o[k] + 0.1 * (rnd() + 0.5))));
+            }
+        }
+        let mut items = items_of(&boxes);
+        let (lo, hi) = range(&items, 0);
+        assert_eq!(area_split(&mut items, &boxes, 0, lo, hi), Some(10));
+        assert!(items[..10].iter().all(|it| it.c[0] < 50.0));
+        for n in [4, 5, 7, 16, 17, 100, 3000] {
+            let boxes: Vec<Aabb> = (0..n)
+                .map(|_| {
+                    let o = [0; 3].map(|_| 10.0 * rnd());
+                    (o, [0, 1, 2].map(|k| o[k] + rnd() + 0.5))
+                })
+                .collect();
+            for k in 0..3 {
+                let mut items = items_of(&boxes);
+                let (lo, hi) = range(&items, k);
+                // (small nodes may have no boundary with two on each side)
+                let Some(first) = area_split(&mut items, &boxes, k, lo, hi) else {
+                    assert!(n < 16, "{n} random centres have a split");
+                    continue;
+                };
+                assert!(first >= 2 && n - first >= 2, "{n} items, {first} first");
+                let before = items[..first].iter().fold(f64::NEG_INFINITY, |m, it| m.max(it.c[k]));
+                let after = items[first..].iter().fold(f64::INFINITY, |m, it| m.min(it.c[k]));
+                assert!(before < after, "{n} items, axis {k}: {before} put before {after}");
+                let mut tris: Vec<u32> = items.iter().map(|it| it.tri).collect();
+                tris.sort_unstable();
+                assert!(tris.iter().copied().eq(0..n as u32), "a permutation");
+            }
+        }
+        // no spread along the axis, or too few items to leave two on each side
+        let same: Vec<Aabb> = (0..8).map(|_| ([1.0, rnd(), rnd()], [2.0, 3.0, 3.0])).collect();
+        assert_eq!(area_split(&mut items_of(&same), &same, 0, 1.5, 1.5), None);
+        let three = &boxes[..3];
+        let mut items = items_of(three);
+        let (lo, hi) = range(&items, 0);
+        assert_eq!(area_split(&mut items, three, 0, lo, hi), None);
+    }
 
     /// The closed-form axes are orthonormal eigenvectors: for `A = Q^T diag(l) Q` (Q a
     /// rotation), `A x = l x` for every axis x within rounding, with distinct, repeated (then
