@@ -230,7 +230,7 @@ impl<T: Real> Mesh<T> {
     }
 
     /// [`Mesh::new`] with a tree of `width` children per node (2 to [`MAX_WIDTH`]): the same
-    /// binary median splits collapsed, so every width has the same tree quality; the answers
+    /// binary splits collapsed, so every width has the same tree quality; the answers
     /// are the same at every width (only the time differs; the module's documentation says
     /// which width is the default, and why).
     ///
