@@ -59,7 +59,7 @@
 //! - the median along the principal axis of the centres (the split direction of Ytterlid and
 //!   Shellshear, JCGT 2015): distance 2.02-2.22 against 1.87-1.91 ms, near 1.03-1.12 against
 //!   0.93-0.98;
-//! - the surface-area split over all three axes: distance 1.48-1.50 ms and near 0.65-0.67, no
+//! - the surface-area split over all three axes: distance 1.47-1.50 ms and near 0.65-0.67, no
 //!   better than the widest axis alone (1.43 and 0.72 in the same round), for a build of 92 ms
 //!   where the widest axis took 64 (both before the sampling and the cheaper partition);
 //! - the surface-area split only in nodes of at least 64, 256 or 1024 triangles (the median
@@ -373,28 +373,21 @@ impl<T: Real> Mesh<T> {
         // The boxes bottom up (children come after their parent): a leaf's from its
         // triangles', a node's the union of its children's.
         for id in (0..bins.len()).rev() {
-            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-            let mut take = |b: &Aabb| {
-                for k in 0..3 {
-                    lo[k] = lo[k].min(b.0[k]);
-                    hi[k] = hi[k].max(b.1[k]);
-                }
-            };
+            let mut acc = EMPTY;
             match bins[id].kids {
-                Some(k) => k.iter().for_each(|&c| take(&(bins[c].lo, bins[c].hi))),
-                None => items[bins[id].s..bins[id].e].iter().for_each(|it| take(&boxes[it.tri as usize])),
+                Some(k) => k.iter().for_each(|&c| unite(&mut acc, &(bins[c].lo, bins[c].hi))),
+                None => items[bins[id].s..bins[id].e]
+                    .iter()
+                    .for_each(|it| unite(&mut acc, &boxes[it.tri as usize])),
             }
-            (bins[id].lo, bins[id].hi) = (lo, hi);
+            (bins[id].lo, bins[id].hi) = acc;
         }
         // The triangles' vertices in leaf order, for the oriented boxes' pass.
         let tv: Vec<[u32; 3]> = items.iter().map(|it| self.triangles[it.tri as usize]).collect();
         // 2. The tree of `width`: the binary tree collapsed (the same splits, so the same tree
         // quality at every width): a node's children are binary descendants, found by opening
         // the internal one of largest box area until there are `width` (or only leaves).
-        let area = |b: &Bin| {
-            let d = [0, 1, 2].map(|k| b.hi[k] - b.lo[k]);
-            d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
-        };
+        let area = |b: &Bin| half_area(&(b.lo, b.hi));
         // (every node is a binary node: `bins.len()` bounds their number)
         let mut of = Vec::with_capacity(bins.len()); // the binary node of each node
         of.push(0usize);
@@ -525,7 +518,7 @@ fn area_split(items: &mut [Item], boxes: &[Aabb], k: usize, lo: f64, hi: f64) ->
     // (the float-to-integer cast saturates: NaN and negatives go to bin 0)
     let bin = |it: &Item| (((it.c[k] - lo) * scale) as usize).min(nb - 1);
     let mut count = [0usize; SPLIT_BINS];
-    let mut bins = [([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]); SPLIT_BINS];
+    let mut bins = [EMPTY; SPLIT_BINS];
     let step = items.len().div_ceil(SPLIT_SAMPLE);
     for it in items.iter().step_by(step) {
         let b = bin(it);
@@ -534,14 +527,14 @@ fn area_split(items: &mut [Item], boxes: &[Aabb], k: usize, lo: f64, hi: f64) ->
     }
     // the area and count of every suffix of bins, then the cost at each boundary
     let mut right = [(0.0, 0usize); SPLIT_BINS];
-    let (mut acc, mut m) = (([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]), 0);
+    let (mut acc, mut m) = (EMPTY, 0);
     for b in (1..nb).rev() {
         unite(&mut acc, &bins[b]);
         m += count[b];
         right[b] = (half_area(&acc), m);
     }
     let mut best: Option<(f64, usize)> = None;
-    let (mut acc, mut m) = (([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]), 0);
+    let (mut acc, mut m) = (EMPTY, 0);
     for b in 0..nb - 1 {
         unite(&mut acc, &bins[b]);
         m += count[b];
@@ -574,6 +567,9 @@ fn area_split(items: &mut [Item], boxes: &[Aabb], k: usize, lo: f64, hi: f64) ->
     (first >= 2 && items.len() - first >= 2).then_some(first)
 }
 
+/// The box that holds nothing ([`unite`] starts from it).
+const EMPTY: Aabb = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+
 /// Grows box `a` to hold box `b`.
 fn unite(a: &mut Aabb, b: &Aabb) {
     for q in 0..3 {
@@ -582,7 +578,8 @@ fn unite(a: &mut Aabb, b: &Aabb) {
     }
 }
 
-/// Half a box's surface area (0 for an empty one).
+/// Half a box's surface area (0 for an empty one; the tree's width collapse compares nodes by
+/// it too).
 fn half_area(b: &Aabb) -> f64 {
     let d = [0, 1, 2].map(|k| (b.1[k] - b.0[k]).max(0.0));
     d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
