@@ -298,8 +298,14 @@ pub(crate) fn finish<L: Lanes, const KA: usize, const KB: usize, const TIGHT: bo
 /// The rounding an answer may show against its own interval and points: 8 u S, prescaled.
 #[inline(always)]
 fn rounding_allowance<L: Lanes>(sc: &Scaled<L, 6>) -> L {
+    allowance(sc, 8.0)
+}
+
+/// `c u S`, prescaled (S the pair's largest absolute coordinate).
+#[inline(always)]
+pub(crate) fn allowance<L: Lanes>(sc: &Scaled<L, 6>, c: f64) -> L {
     let k = Cx::of(sc.m);
-    k.u().mul(k.c(8.0)).mul(sc.m.mul(sc.inv))
+    k.u().mul(k.c(c)).mul(sc.m.mul(sc.inv))
 }
 
 /// Decides acceptance of an answer `r` with certified interval `[lo, hi]` (prescaled, points
