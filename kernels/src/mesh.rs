@@ -66,6 +66,18 @@
 //!   below): distance 2.10-2.48 ms, no better than the median; only in nodes of at most 64:
 //!   1.62 against 1.50 for every node. The splits near the leaves matter most.
 //!
+//! Build time, tried and dropped (2026-11-27, instructions counted by `valgrind
+//! --tool=callgrind` on `spin mesh build 0 f32 1 0.01` and `spin mesh distance <pose> f32 1
+//! 0.001`, which repeat exactly): the build's instructions are about 35 % surface-area splits
+//! and 45 % oriented boxes (about half of that a fixed cost per node, mostly its principal
+//! axes).
+//! - The centre bounds of both sides taken in the split's partition pass instead of a pass
+//!   per node: the same tree, 0.2 % fewer instructions in all, no time measurable.
+//! - Leaf boxes along the largest triangle's normal and longest side instead of the
+//!   principal axes: 7.3 % fewer build instructions, but the distance query's own
+//!   instructions rose at the separated poses (poses 3 and 9: about 3.1 -> 3.6 M and 4.2 ->
+//!   5.1 M): the leaves' boxes are looser.
+//!
 //! # The traversal
 //! From each node pair taken, the walk splits the larger node (all its children against the
 //! other node) and dives to a leaf pair along the nearest child pairs, leaving the farther
@@ -90,7 +102,13 @@
 //! ordered by the overlap's depth, 26.3 by the overlap as a fraction; distance 345, 84.0 and
 //! 39.7 µs (`spin mesh intersect|distance P f32 1 0.5`, two copies of each build
 //! alternated); the separated poses and the contact query (which visits every pair within
-//! its margin either way) unchanged.
+//! its margin either way) unchanged. Re-measured on the surface-area tree (2026-11-27,
+//! collision summed over the 12 trajectory poses and over the 12 near-contact placements,
+//! `spin mesh intersect <pose> f32 1 0.15`, two rounds): by the overlap as a fraction
+//! 0.081-0.100 and 0.57-0.60 ms, in the order of node numbers 0.115 and 0.57-0.61,
+//! shallowest overlap first 0.105-0.106 and 0.56-0.57. Pose 7 alone takes 0.072 ms in this
+//! order and 0.036 shallowest first, which is slower at poses 4 and 5 (0.015 -> 0.036, 0.012
+//! -> 0.015 ms).
 
 use crate::algo::nodes::{Column, Columns, NodeTest, DOWN, HI, LO, ROWS, SC, SE, SH, SHI, SLO, SRHO, SROWS};
 use crate::engine::Outputs;
