@@ -717,7 +717,7 @@ fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
     unit_of(a, dot(&a, &a))
 }
 
-/// [`unit`] with `|a|^2` already computed as `n2`.
+/// [`unit()`] with `|a|^2` already computed as `n2`.
 fn unit_of(a: [f64; 3], n2: f64) -> Option<[f64; 3]> {
     let n = n2.sqrt();
     let inv = 1.0 / n;

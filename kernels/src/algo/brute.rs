@@ -1,7 +1,6 @@
 //! Brute force (Krestenitis & Koziara's baseline): the minimum over the 15 feature pairs (9
-//! edge-edge, 6 vertex-face) unless the separating-axis test finds an overlap, then 0 with a
-//! contact point pair (when a contact candidate comes within 2 u S; see [`overlap`]). Also the pieces PQP's accurate stage shares: vertex-face candidates and
-//! contact points.
+//! edge-edge, 6 vertex-face) unless the separating-axis test finds an overlap, then a contact
+//! point pair, with 0 where a contact candidate comes within 2 u S (see [`overlap`]).
 
 use super::point_tri::point_triangle;
 use super::sat::overlaps;
@@ -81,8 +80,8 @@ fn contact_points<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
 /// How close (in `u S`) a contact candidate must come for an overlap to be answered 0.
 const CONTACT: f64 = 2.0;
 
-/// Brute force: `overlaps ? 0 : min15`, both computed for every lane (`reach`: see
-/// [`overlap`]).
+/// Brute force: `overlaps ? contact : min15`, both computed for every lane (the contact's
+/// distance 0 within `reach`: see [`overlap`]).
 #[inline(always)]
 fn tri_tri_brute<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], reach: L) -> Res<L> {
     let mut best = min15(s, t);
