@@ -41,7 +41,7 @@ fn min15<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> Res<L> {
 }
 
 #[inline(always)]
-pub(crate) fn vertex_faces<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
+fn vertex_faces<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], best: &mut Res<L>) {
     for k in 0..3 {
         // point_triangle(x, ..) returns p = x: a vertex of s needs no swap, one of t does.
         keep_min(best, point_triangle(s[k], t[0], t[1], t[2]));
