@@ -36,8 +36,9 @@
 //! trees also build faster (fewer oriented boxes to fit). Each node has two bounds: an
 //! axis-aligned box in the mesh's own frame, moved with the pose (centre moved, half-extent through `|R|`: conservative for any
 //! rotation, but loose for rotated flat patches), and an oriented box on the principal axes
-//! of its vertices (`Obb`: thin around a flat patch in any pose), certified to contain every
-//! vertex exactly despite f64 rounding and moved exactly as a parallelepiped. A node pair's
+//! of its vertices (`Obb`: thin around a flat patch in any pose; a node of more than
+//! [`OBB_FIT_MAX`] triangles takes its axis-aligned box, on the frame's axes), certified to
+//! contain every vertex exactly despite f64 rounding and moved exactly as a parallelepiped. A node pair's
 //! lower bound is the larger of the boxes' gap and the oriented boxes' six-axis projection
 //! gap; the oriented boxes are tried only when every child's box gap already prunes. The node
 //! test ([`crate::algo::nodes`]) is written once over the kernels' lane types and runs on the
@@ -66,6 +67,26 @@
 //!   below): distance 2.10-2.48 ms, no better than the median; only in nodes of at most 64:
 //!   1.62 against 1.50 for every node. The splits near the leaves matter most.
 //!
+//! Build time, landed (2026-11-27, the Intel Xeon of the report; `spin mesh build 0 f32 1 1`,
+//! the four builds alternated five times, medians, the machine shared): both meshes 70.9 ms
+//! before, 61.7 with the first change alone, 62.6 with the second alone, 57.3 with both
+//! (48-68 over the five rounds, against 62-83).
+//! - The split's partition without a branch on the side (Lomuto's, every item swapped with
+//!   the first of the right side): the side is as good as random to the branch predictor.
+//!   The splits' instructions rose (239 -> 261 M in `valgrind --tool=callgrind` of `spin mesh
+//!   build 0 f32 1 0.01`, two builds); their time fell.
+//! - A node of more than [`OBB_FIT_MAX`] (256) triangles takes its axis-aligned box as its
+//!   oriented box, with no pass over its vertices: the oriented boxes' instructions 210 ->
+//!   170 M. Its pruning is no worse in these queries: the instructions of the queries
+//!   summed over the report's poses (`valgrind --tool=callgrind --toggle-collect=...` on
+//!   `spin mesh <query> <pose> f32 1 0.001`, distance and intersection at the 12 trajectory
+//!   poses and 12 near-contact placements, contacts at the trajectory poses) went 422.8 ->
+//!   428.7 M (distance), 402.5 -> 407.6 (intersection), 284.7 -> 284.1 (contacts) with both
+//!   changes: within the +-2 % that any change of the tree's item order gives (the
+//!   partition's order changes which items a large node's sample sees). The threshold is
+//!   the best of 64, 128, 256 and 1024 (in a variant with the moments below, distance
+//!   +1.8, -0.2, -1.7 and -1.5 % against the tree before).
+//!
 //! Build time, tried and dropped (2026-11-27, instructions counted by `valgrind
 //! --tool=callgrind` on `spin mesh build 0 f32 1 0.01` and `spin mesh distance <pose> f32 1
 //! 0.001`, which repeat exactly): the build's instructions are about 35 % surface-area splits
@@ -77,6 +98,9 @@
 //!   principal axes: 7.3 % fewer build instructions, but the distance query's own
 //!   instructions rose at the separated poses (poses 3 and 9: about 3.1 -> 3.6 M and 4.2 ->
 //!   5.1 M): the leaves' boxes are looser.
+//! - The vertex moments of a node merged from its children's (Chan, Golub and LeVeque's
+//!   update; a leaf's from its distinct vertices) instead of a covariance pass over the
+//!   node's vertices: 3.4 % fewer build instructions, no time measurable, and more code.
 //!
 //! # The traversal
 //! From each node pair taken, the walk splits the larger node (all its children against the
@@ -441,34 +465,32 @@ impl<T: Real> Mesh<T> {
                 self.nodes.push(Node { lo: bins[c].lo, hi: bins[c].hi, first: 0, count: 0, kids: 0 });
             }
         }
-        // 3. The oriented boxes, fitted to each node's distinct vertices (a vertex is shared by
-        // about six triangles): `seen[v]` is the last node that took vertex `v`.
+        // 3. Both bounds of every node as rows ([`crate::algo::nodes::SROWS`]), padded with
+        // copies of the last node so that a group's lanes past the children read real nodes.
+        // The oriented boxes are fitted to each node's distinct vertices (a vertex is shared
+        // by about six triangles): `seen[v]` is the last node that took vertex `v`.
+        let stride = self.nodes.len() + MAX_WIDTH;
+        let mut rows = vec![0.0; SROWS * stride];
         let mut seen = vec![u32::MAX; verts.len()];
         let mut pts: Vec<[f64; 3]> = Vec::new();
-        let obbs: Vec<Obb> = (0..self.nodes.len())
-            .map(|id| {
-                let b = &bins[of[id]];
+        for j in 0..stride {
+            let id = j.min(self.nodes.len() - 1);
+            let b = &bins[of[id]];
+            let o = if b.e - b.s > OBB_FIT_MAX {
+                Obb::of_box(&(b.lo, b.hi))
+            } else {
                 pts.clear();
                 for tri in &tv[b.s..b.e] {
                     for &v in tri {
-                        if seen[v as usize] != id as u32 {
-                            seen[v as usize] = id as u32;
+                        if seen[v as usize] != j as u32 {
+                            seen[v as usize] = j as u32;
                             pts.push(verts[v as usize]);
                         }
                     }
                 }
                 Obb::fit(&pts)
-            })
-            .collect();
-        self.order = items.iter().map(|it| it.tri).collect();
-        self.leaf_tris = self.order.iter().map(|&t| self.triangles[t as usize]).collect();
-        // 4. Both bounds of every node as rows ([`crate::algo::nodes::SROWS`]), padded with
-        // copies of the last node so that a group's lanes past the children read real nodes.
-        let stride = self.nodes.len() + MAX_WIDTH;
-        let mut rows = vec![0.0; SROWS * stride];
-        for j in 0..stride {
-            let i = j.min(self.nodes.len() - 1);
-            let (o, n) = (&obbs[i], &self.nodes[i]);
+            };
+            let n = &self.nodes[id];
             let mut put = |r: usize, x: f64| rows[r * stride + j] = x;
             for k in 0..3 {
                 put(SC + k, o.c[k]);
@@ -481,6 +503,8 @@ impl<T: Real> Mesh<T> {
             }
             put(SRHO, o.rho);
         }
+        self.order = items.iter().map(|it| it.tri).collect();
+        self.leaf_tris = self.order.iter().map(|&t| self.triangles[t as usize]).collect();
         (self.bounds, self.bounds_stride) = (rows, stride);
     }
 
@@ -516,6 +540,11 @@ const SPLIT_BINS: usize = 16;
 
 /// Most items [`area_split`] bins (a regular sample of larger nodes).
 const SPLIT_SAMPLE: usize = 1024;
+
+/// Most triangles of a node whose oriented box is fitted on its vertices' principal axes;
+/// a larger node's is its axis-aligned box, on the mesh frame's axes (no pass over its
+/// vertices). Why: the `mesh` module's docs.
+const OBB_FIT_MAX: usize = 256;
 
 /// A binned surface-area split of `items` along axis `k` (their box centres from `lo` to `hi`
 /// along it; `boxes` the triangles' boxes by number): the centres' range cut into
@@ -563,23 +592,17 @@ fn area_split(items: &mut [Item], boxes: &[Aabb], k: usize, lo: f64, hi: f64) ->
         }
     }
     let (_, cut) = best?;
-    // The items of bins up to `cut` first, each misplaced pair swapped once. (An item is in
-    // such a bin exactly when its scaled offset is below `cut + 1`: the same test as `bin`'s
-    // without the conversion, `cut + 1` being below the last bin's saturation.)
-    let left = |it: &Item| (it.c[k] - lo) * scale < (cut + 1) as f64;
-    let (mut first, mut end) = (0, items.len());
-    loop {
-        while first < end && left(&items[first]) {
-            first += 1;
-        }
-        while first < end && !left(&items[end - 1]) {
-            end -= 1;
-        }
-        if first >= end {
-            break;
-        }
-        items.swap(first, end - 1);
-        (first, end) = (first + 1, end - 1);
+    // The items of bins up to `cut` first. (An item is in such a bin exactly when its scaled
+    // offset is below `cut + 1`: the same test as `bin`'s without the conversion, `cut + 1`
+    // being below the last bin's saturation.) Without a branch on the side (Lomuto's
+    // partition: every item swapped with the first of the right side), whose outcome is as
+    // good as random to the branch predictor.
+    let cut = (cut + 1) as f64;
+    let mut first = 0;
+    for i in 0..items.len() {
+        let left = (items[i].c[k] - lo) * scale < cut;
+        items.swap(first, i);
+        first += usize::from(left);
     }
     // (the sample saw two on each side; the whole may not)
     (first >= 2 && items.len() - first >= 2).then_some(first)
@@ -612,7 +635,8 @@ fn half_area(b: &Aabb) -> f64 {
 /// test checks it in double-double arithmetic on far-from-origin, flat and collinear sets).
 /// The axes come from the
 /// principal axes of the node's vertices, so a flat patch gets a thin box in any pose (the
-/// axis-aligned boxes only in the mesh frame).
+/// axis-aligned boxes only in the mesh frame); a node of more than [`OBB_FIT_MAX`] triangles
+/// takes the mesh frame's axes and its axis-aligned box ([`Obb::of_box`]).
 #[derive(Clone, Copy, Debug)]
 struct Obb {
     c: [f64; 3],
@@ -629,6 +653,9 @@ fn norm1(a: &[f64; 3]) -> f64 {
     a[0].abs() + a[1].abs() + a[2].abs()
 }
 
+/// The mesh frame's axes.
+const ID: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
 /// Orthonormal axes (rows) along the eigenvectors of a symmetric 3x3 matrix, in closed form
 /// (the eigenvalues from the characteristic cubic by the trigonometric method; the vector of
 /// the best separated one as the longest cross product of two rows of `A - l I`, the vector
@@ -641,7 +668,6 @@ fn norm1(a: &[f64; 3]) -> f64 {
 /// same command from 32.5 to 26.8 ms, the eigenvector's rows and longest cross product
 /// having been picked through arrays and closures before.)
 fn principal_axes(a: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    const ID: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     // Scaled to entries of order 1 (the same eigenvectors): no square below underflows or
     // overflows, whatever the coordinates' magnitude.
     let big = a.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -725,6 +751,13 @@ fn unit_of(a: [f64; 3], n2: f64) -> Option<[f64; 3]> {
 }
 
 impl Obb {
+    /// The box of the points in the axis-aligned box `b` on the mesh frame's axes (the
+    /// projections are the coordinates themselves, exactly), certified as the type says.
+    fn of_box(b: &Aabb) -> Obb {
+        let big = (0..3).map(|k| b.0[k].abs().max(b.1[k].abs())).sum::<f64>() * (1.0 + 4.0 * f64::EPSILON);
+        Obb::certify(ID, b.0, b.1, big)
+    }
+
     /// The box of `points` (at least one), certified as the type says.
     fn fit(points: &[[f64; 3]]) -> Obb {
         // Mean and covariance in one pass, about the first point (only the axes depend on
@@ -753,6 +786,13 @@ impl Obb {
             }
             big = big.max(norm1(p));
         }
+        Obb::certify(e, lo, hi, big)
+    }
+
+    /// The box on the axes `e` (rows, near orthonormal: the certificate allows for how far)
+    /// of the points whose computed projections `e_i . v` lie in `[lo_i, hi_i]` and whose
+    /// 1-norms are at most `big`, certified as the type says.
+    fn certify(e: [[f64; 3]; 3], lo: [f64; 3], hi: [f64; 3], big: f64) -> Obb {
         let mid = [0, 1, 2].map(|i| 0.5 * lo[i] + 0.5 * hi[i]);
         let c = [0, 1, 2].map(|k| (0..3).map(|i| mid[i] * e[i][k]).sum::<f64>());
         // The certificate, from those alone (no pass over the points again). For a vertex `v`,
@@ -2119,10 +2159,10 @@ mod tests {
         two_sum(s, t + acc.1 + e)
     }
 
-    /// Every point lies in its box as the type promises: with `s_i = e_i . (v - c)` (computed
-    /// in double-double, far below the box's allowance), `|s_i| <= h_i` and
-    /// `|v - c - sum s_i e_i|_1 <= rho`; and the box is tight (its widths within a millionth
-    /// of the point set's extent plus the allowance's order).
+    /// Every point lies in its box (fitted, or from its axis-aligned box) as the type
+    /// promises: with `s_i = e_i . (v - c)` (computed in double-double, far below the box's
+    /// allowance), `|s_i| <= h_i` and `|v - c - sum s_i e_i|_1 <= rho`; and the box is tight
+    /// (its widths within a millionth of the point set's extent plus the allowance's order).
     #[test]
     fn oriented_boxes_contain_their_points() {
         let mut rnd = uniform(0x9e37_79b9_7f4a_7c15);
@@ -2151,8 +2191,12 @@ mod tests {
                 );
             }
         }
-        for pts in &sets {
-            let b = Obb::fit(pts);
+        for (pts, b) in sets.iter().flat_map(|pts| {
+            // fitted on the principal axes, and the box of a large node (its axis-aligned box)
+            let mut bx = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            pts.iter().for_each(|p| super::unite(&mut bx, &(*p, *p)));
+            [(pts, Obb::fit(pts)), (pts, Obb::of_box(&bx))]
+        }) {
             for v in pts {
                 let d = [0, 1, 2].map(|k| two_sum(v[k], -b.c[k]));
                 let s = [0, 1, 2].map(|i| (0..3).fold((0.0, 0.0), |acc, k| dd_mul_add(d[k], b.e[i][k], acc)));
