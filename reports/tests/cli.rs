@@ -400,6 +400,18 @@ fn a_small_report_writes_parseable_files() {
             assert!(c[5..9].iter().all(|x| x.parse::<f64>().unwrap() >= 0.0), "{c:?}");
         }
     }
+    // builds, per precision: both timed, tridist's share of parry3d's time as stated
+    for p in ["## tridist f32", "## tridist f64"] {
+        let line =
+            mesh.split(p).nth(1).and_then(|s| s.lines().find(|l| l.starts_with("Tree build"))).unwrap();
+        let num = |after: &str| -> f64 {
+            let s = line.split(after).nth(1).unwrap_or_else(|| panic!("{after:?} in {line}"));
+            s.split([' ', 'x']).next().unwrap().parse().unwrap()
+        };
+        let (ours, parry, share) = (num("): tridist "), num(", parry3d "), num("(tridist takes "));
+        assert!(ours > 0.0 && parry > 0.0, "{line}");
+        assert!((share - ours / parry).abs() <= 0.01, "{line}");
+    }
     // threads: both precisions of both workloads at the run's batch and the large one
     let thr = std::fs::read_to_string(dir.join("THROUGHPUT.md")).unwrap();
     let rows = section_rows(&thr, "## Threads");
