@@ -473,8 +473,7 @@ impl<T: Real> Mesh<T> {
         let mut rows = vec![0.0; SROWS * stride];
         let mut seen = vec![u32::MAX; verts.len()];
         let mut pts: Vec<[f64; 3]> = Vec::new();
-        for j in 0..stride {
-            let id = j.min(self.nodes.len() - 1);
+        for id in 0..self.nodes.len() {
             let b = &bins[of[id]];
             let o = if b.e - b.s > OBB_FIT_MAX {
                 Obb::of_box(&(b.lo, b.hi))
@@ -482,8 +481,8 @@ impl<T: Real> Mesh<T> {
                 pts.clear();
                 for tri in &tv[b.s..b.e] {
                     for &v in tri {
-                        if seen[v as usize] != j as u32 {
-                            seen[v as usize] = j as u32;
+                        if seen[v as usize] != id as u32 {
+                            seen[v as usize] = id as u32;
                             pts.push(verts[v as usize]);
                         }
                     }
@@ -491,7 +490,7 @@ impl<T: Real> Mesh<T> {
                 Obb::fit(&pts)
             };
             let n = &self.nodes[id];
-            let mut put = |r: usize, x: f64| rows[r * stride + j] = x;
+            let mut put = |r: usize, x: f64| rows[r * stride + id] = x;
             for k in 0..3 {
                 put(SC + k, o.c[k]);
                 put(SH + k, o.h[k]);
@@ -502,6 +501,10 @@ impl<T: Real> Mesh<T> {
                 }
             }
             put(SRHO, o.rho);
+        }
+        for row in rows.chunks_exact_mut(stride) {
+            let last = row[self.nodes.len() - 1];
+            row[self.nodes.len()..].fill(last);
         }
         self.order = items.iter().map(|it| it.tri).collect();
         self.leaf_tris = self.order.iter().map(|&t| self.triangles[t as usize]).collect();
@@ -754,7 +757,7 @@ impl Obb {
     /// The box of the points in the axis-aligned box `b` on the mesh frame's axes (the
     /// projections are the coordinates themselves, exactly), certified as the type says.
     fn of_box(b: &Aabb) -> Obb {
-        let big = (0..3).map(|k| b.0[k].abs().max(b.1[k].abs())).sum::<f64>() * (1.0 + 4.0 * f64::EPSILON);
+        let big = norm1(&[0, 1, 2].map(|k| b.0[k].abs().max(b.1[k].abs()))) * (1.0 + 4.0 * f64::EPSILON);
         Obb::certify(ID, b.0, b.1, big)
     }
 

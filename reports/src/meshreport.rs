@@ -191,10 +191,7 @@ fn alternated<const N: usize>(mut fs: [&mut dyn FnMut(); N], budget: Duration) -
             t.push(at.elapsed().as_secs_f64());
         }
     }
-    times.map(|mut t| {
-        t.sort_by(f64::total_cmp);
-        t[t.len() / 2]
-    })
+    times.map(crate::common::median)
 }
 
 fn rows<T: Peer + Real>(
