@@ -113,7 +113,7 @@
 //!   update; a leaf's from its distinct vertices) instead of a covariance pass over the
 //!   node's vertices: 3.4 % fewer build instructions, no time measurable, and more code.
 //! - The splits' items (box centres) and the triangles' boxes they read in the mesh's own
-//!   precision (half the bytes in f32): slower, 54.0-57.6 against 46.8-51.4 ms for the f32
+//!   precision (half the bytes in f32): slower, 53.6-57.6 against 46.8-51.4 ms for the f32
 //!   build (`spin mesh build 0 f32 1 1.5`, four alternations), the conversions to f64 for
 //!   the bins costing more than the bytes saved.
 //!
