@@ -232,11 +232,14 @@ pub(crate) struct NodeTest<'a> {
 pub(crate) fn gaps<L: Lanes<S = f64>>(k: L::K, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]) {
     let c = |v: f64| L::splat(k, v);
     let z = c(0.0);
-    let mut fixed = [0.0; ROWS];
-    for (r, x) in fixed.iter_mut().enumerate() {
-        *x = t.fixed[r * t.fixed_stride];
-    }
-    let b = |r: usize| c(fixed[r]);
+    // The other node's rows are read where they are used, not all copied first: a vector the
+    // boxes prune reads 6 of its 32 rows, each on its own cache line in its group. The
+    // distance query summed over the report's 24 poses (`spin mesh distance <pose> f32 1
+    // 0.2`, the 12 trajectory poses and the 12 near-contact placements, two builds alternated
+    // 16 times, 2026-11-27, the machine noisy): 3.36 -> 3.14 ms, medians, faster in 11 of the
+    // 16 rounds; callgrind counts 3.5 % fewer instructions in the node test at pose 9.
+    let fixed = &t.fixed[..(ROWS - 1) * t.fixed_stride + 1];
+    let b = |r: usize| c(fixed[r * t.fixed_stride]);
     let mut base = 0;
     while base < t.n {
         let a = |r: usize| L::load(k, &t.group[r * t.stride + base..]);
