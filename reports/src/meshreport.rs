@@ -178,6 +178,13 @@ fn agreement(agree: bool, diff: f64) -> String {
 /// How the builds are timed ([`alternated`]), as the report says it.
 const BUILD_TIMING: &str = "medians of at least 5 rounds of one build of each library, after a warm-up";
 
+/// How tridist's and FCL's query times are taken, as the report says it: [`alternated`], so
+/// that a noisy moment of the shared machine falls on both (timed one after the other, the
+/// f32 distance at pose +1.91 gave FCL / tridist 1.86x in the report of fbb6124 and 0.69x in
+/// that of 461b0e9, tridist's own time 0.058 and 0.104 ms, with no change to the query; `spin
+/// mesh distance 2 f32 1 0.5` gave 0.061 ms in the next session).
+const FCL_TIMING: &str = "tridist's and FCL's distance and intersection times per pose alternate call by call (one call of each per round after a warm-up, at least 5 rounds and until three such budgets are used, medians), so that a noisy moment of the shared machine falls on both";
+
 /// Median seconds per call of each of `fs`, timed in rounds of one call of each after a
 /// warm-up call of each: at least 5 rounds, and until 3 `budget`s are used (at most 200).
 fn alternated<const N: usize>(mut fs: [&mut dyn FnMut(); N], budget: Duration) -> [f64; N] {
@@ -233,18 +240,29 @@ fn rows<T: Peer + Real>(
             translation: pose64.translation.map(T::from_f64),
         };
         let mut d = f64::NAN;
-        let t_d = median_time(
-            || {
-                d = e
-                    .mesh_distance(&ma, &id, &mb, &pose)
-                    .ok()
-                    .flatten()
-                    .map_or(f64::NAN, |r| r.sqdist.to_f64().sqrt())
-            },
-            budget,
-        );
+        let mut run_d = || {
+            d = e
+                .mesh_distance(&ma, &id, &mb, &pose)
+                .ok()
+                .flatten()
+                .map_or(f64::NAN, |r| r.sqdist.to_f64().sqrt())
+        };
         let mut hit = false;
-        let t_i = median_time(|| hit = matches!(e.mesh_intersect(&ma, &id, &mb, &pose), Ok(Some(_))), budget);
+        let mut run_i = || hit = matches!(e.mesh_intersect(&ma, &id, &mb, &pose), Ok(Some(_)));
+        // tridist and FCL alternated call by call (FCL_TIMING)
+        let (mut fcl_d, mut fcl_t_d, mut fcl_hit, mut fcl_t_i) = (f64::NAN, f64::NAN, None, f64::NAN);
+        let (t_d, t_i) = match &fcl {
+            Some((fa, fb)) => {
+                let id64 = Pose::<f64>::identity();
+                let [t_d, f_d] =
+                    alternated([&mut run_d, &mut || fcl_d = fa.distance(&id64, fb, &pose64)], budget);
+                let [t_i, f_i] =
+                    alternated([&mut run_i, &mut || fcl_hit = Some(fa.collide(&id64, fb, &pose64))], budget);
+                (fcl_t_d, fcl_t_i) = (f_d, f_i);
+                (t_d, t_i)
+            }
+            None => (median_time(run_d, budget), median_time(run_i, budget)),
+        };
         // one and two threads alternated, three rounds, medians (the machine's drift falls on
         // both alike)
         let mut contacts = 0;
@@ -266,12 +284,6 @@ fn rows<T: Peer + Real>(
         let parry_t_d = median_time(|| parry_d = T::mesh_distance(&pa, &peer_id, &pb, &pp), budget);
         let mut parry_hit = None;
         let parry_t_i = median_time(|| parry_hit = T::mesh_intersects(&pa, &peer_id, &pb, &pp), budget);
-        let (mut fcl_d, mut fcl_t_d, mut fcl_hit, mut fcl_t_i) = (f64::NAN, f64::NAN, None, f64::NAN);
-        if let Some((fa, fb)) = &fcl {
-            let id64 = Pose::<f64>::identity();
-            fcl_t_d = median_time(|| fcl_d = fa.distance(&id64, fb, &pose64), budget);
-            fcl_t_i = median_time(|| fcl_hit = Some(fa.collide(&id64, fb, &pose64)), budget);
-        }
         out.push(Row {
             x: pp.0[0],
             d,
@@ -438,12 +450,31 @@ fn near_rows(
             translation: pose64.translation.map(|x| x as f32),
         };
         let d = tridist_scenes::protocol::mesh_gap(&e, &a64, &b64, &pose64)?;
-        let t_d32 = median_time(|| drop(e.mesh_distance(&a32, &id32, &b32, &pose32)), budget);
-        let t_d64 = median_time(|| drop(e.mesh_distance(&a64, &id64, &b64, &pose64)), budget);
         let mut hit = false;
-        let t_i32 = median_time(|| drop(e.mesh_intersect(&a32, &id32, &b32, &pose32)), budget);
-        let t_i64 =
-            median_time(|| hit = matches!(e.mesh_intersect(&a64, &id64, &b64, &pose64), Ok(Some(_))), budget);
+        let mut run_d32 = || drop(e.mesh_distance(&a32, &id32, &b32, &pose32));
+        let mut run_d64 = || drop(e.mesh_distance(&a64, &id64, &b64, &pose64));
+        let mut run_i32 = || drop(e.mesh_intersect(&a32, &id32, &b32, &pose32));
+        let mut run_i64 = || hit = matches!(e.mesh_intersect(&a64, &id64, &b64, &pose64), Ok(Some(_)));
+        // tridist and FCL alternated call by call (FCL_TIMING)
+        let (mut fcl_d, mut fcl_t_d, mut fcl_hit, mut fcl_t_i) = (f64::NAN, f64::NAN, None, f64::NAN);
+        let ([t_d32, t_d64], [t_i32, t_i64]) = match &fcl {
+            Some((fa, fb)) => {
+                let [d32, d64, f_d] = alternated(
+                    [&mut run_d32, &mut run_d64, &mut || fcl_d = fa.distance(&id64, fb, &pose64)],
+                    budget,
+                );
+                let [i32_, i64_, f_i] = alternated(
+                    [&mut run_i32, &mut run_i64, &mut || fcl_hit = Some(fa.collide(&id64, fb, &pose64))],
+                    budget,
+                );
+                (fcl_t_d, fcl_t_i) = (f_d, f_i);
+                ([d32, d64], [i32_, i64_])
+            }
+            None => (
+                [median_time(run_d32, budget), median_time(run_d64, budget)],
+                [median_time(run_i32, budget), median_time(run_i64, budget)],
+            ),
+        };
         let mut contacts = 0;
         let t_c32 =
             median_time(|| drop(e.mesh_contacts(&a32, &id32, &b32, &pose32, MARGIN as f32, None)), budget);
@@ -454,11 +485,6 @@ fn near_rows(
             },
             budget,
         );
-        let (mut fcl_d, mut fcl_t_d, mut fcl_hit, mut fcl_t_i) = (f64::NAN, f64::NAN, None, f64::NAN);
-        if let Some((fa, fb)) = &fcl {
-            fcl_t_d = median_time(|| fcl_d = fa.distance(&id64, fb, &pose64), budget);
-            fcl_t_i = median_time(|| fcl_hit = Some(fa.collide(&id64, fb, &pose64)), budget);
-        }
         out.push(NearRow {
             contacts,
             t_c32,
@@ -559,7 +585,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         header("Mesh queries: tridist, FCL and parry3d on the same meshes and poses", &s.command, seed);
     let _ = writeln!(
         t,
-        "Armadillo ({} triangles) fixed at the origin, fandisk ({} triangles) moved along the seed's trajectory: {} poses from 3 units on one side through the armadillo to 3 units on the other, rotating once about (1, 2, 3); both meshes scaled to [-1, 1]^3. tridist: `Engine::auto()` ({}), a tree of {} children per node (see Tree width below) with an axis-aligned and an oriented box per node (pruning by the larger gap), 4 triangles per leaf, the batch kernels at the leaves; distance with closest points (`mesh_distance`), `mesh_intersect`, `mesh_contacts`. FCL 0.7, double, the library as the distribution ships it (`libfcl-dev`; the shim's glue only is compiled here, so unlike the triangle peer it is not built with `-march=native`): `BVHModel<OBBRSS>`, `fcl::distance` with nearest points and `fcl::collide` (one contact), {}. parry3d / parry3d-f64 0.31: `TriMesh`, `query::distance` and `query::intersection_test`. Times: the median of repeated calls within {} ms per measurement, one thread (the contact query also on two), the same run. Contacts: the triangle pairs within 0.02 (1 % of the scene's size) with their distances and closest points; FCL and parry have no such query here. Agreement: the distances of the three libraries (the poses are built from the same axis and angle: parry rotates by a quaternion, tridist and FCL by the same matrix, so they differ in rounding) and the intersection verdicts.\n",
+        "Armadillo ({} triangles) fixed at the origin, fandisk ({} triangles) moved along the seed's trajectory: {} poses from 3 units on one side through the armadillo to 3 units on the other, rotating once about (1, 2, 3); both meshes scaled to [-1, 1]^3. tridist: `Engine::auto()` ({}), a tree of {} children per node (see Tree width below) with an axis-aligned and an oriented box per node (pruning by the larger gap), 4 triangles per leaf, the batch kernels at the leaves; distance with closest points (`mesh_distance`), `mesh_intersect`, `mesh_contacts`. FCL 0.7, double, the library as the distribution ships it (`libfcl-dev`; the shim's glue only is compiled here, so unlike the triangle peer it is not built with `-march=native`): `BVHModel<OBBRSS>`, `fcl::distance` with nearest points and `fcl::collide` (one contact), {}. parry3d / parry3d-f64 0.31: `TriMesh`, `query::distance` and `query::intersection_test`. Times: the median of repeated calls within {} ms per measurement, one thread (the contact query also on two), the same run; {FCL_TIMING}. Contacts: the triangle pairs within 0.02 (1 % of the scene's size) with their distances and closest points; FCL and parry have no such query here. Agreement: the distances of the three libraries (the poses are built from the same axis and angle: parry rotates by a quaternion, tridist and FCL by the same matrix, so they differ in rounding) and the intersection verdicts.\n",
         a.triangles.len(),
         b.triangles.len(),
         s.mesh_poses,
