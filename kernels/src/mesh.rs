@@ -939,12 +939,20 @@ fn point_gap2(x: &[f64; 3], b: &([f64; 3], [f64; 3])) -> f64 {
 
 /// The largest absolute coordinate of two boxes: a bound of the magnitude `S` of every
 /// triangle pair in them.
+///
+/// The largest of 0 and the coordinates' absolute values, NaN ignored (as by a chain of
+/// [`f64::max`] from 0), as a tree of compare-and-selects ([`most`]): it is every child's
+/// limit in every node test, and as a chain of twelve `f64::max` (three instructions each,
+/// one after the other) its instructions held about a quarter of `children`'s samples in
+/// `perf` of `spin mesh contacts 5 f32 1 4`.
 fn magnitude(a: &Aabb, b: &Aabb) -> f64 {
-    let mut m = 0.0f64;
+    // per axis, the pairs from 0 (never NaN), then the tree of those
+    let mut m = [0.0f64; 6];
     for k in 0..3 {
-        m = m.max(a.0[k].abs()).max(a.1[k].abs()).max(b.0[k].abs()).max(b.1[k].abs());
+        m[2 * k] = most(most(0.0, a.0[k].abs()), a.1[k].abs());
+        m[2 * k + 1] = most(most(0.0, b.0[k].abs()), b.1[k].abs());
     }
-    m
+    most(most(most(m[0], m[1]), most(m[2], m[3])), most(m[4], m[5]))
 }
 
 /// How far apart (exactly) two triangles of magnitude at most `mag` may be and still be
