@@ -269,7 +269,7 @@ fn rows<T: Peer + Real>(
         };
         let mut hit = false;
         let mut run_i = || hit = matches!(e.mesh_intersect(&ma, &id, &mb, &pose), Ok(Some(_)));
-        // tridist and FCL alternated call by call (FCL_TIMING)
+        // tridist and FCL in alternated bursts (FCL_TIMING)
         let (mut fcl_d, mut fcl_t_d, mut fcl_hit, mut fcl_t_i) = (f64::NAN, f64::NAN, None, f64::NAN);
         let (t_d, t_i) = match &fcl {
             Some((fa, fb)) => {
@@ -475,7 +475,7 @@ fn near_rows(
         let mut run_d64 = || drop(e.mesh_distance(&a64, &id64, &b64, &pose64));
         let mut run_i32 = || drop(e.mesh_intersect(&a32, &id32, &b32, &pose32));
         let mut run_i64 = || hit = matches!(e.mesh_intersect(&a64, &id64, &b64, &pose64), Ok(Some(_)));
-        // tridist and FCL alternated call by call (FCL_TIMING)
+        // tridist and FCL in alternated bursts (FCL_TIMING)
         let (mut fcl_d, mut fcl_t_d, mut fcl_hit, mut fcl_t_i) = (f64::NAN, f64::NAN, None, f64::NAN);
         let ([t_d32, t_d64], [t_i32, t_i64]) = match &fcl {
             Some((fa, fb)) => {

@@ -233,7 +233,7 @@ pub(crate) fn gaps<L: Lanes<S = f64>>(k: L::K, t: &NodeTest<'_>, out: &mut [f64;
     let c = |v: f64| L::splat(k, v);
     let z = c(0.0);
     // The other node's rows are read where they are used, not all copied first: a vector the
-    // boxes prune reads 6 of its 32 rows, each on its own cache line in its group. The
+    // boxes prune reads 6 of its 32 rows (3 of the 16 cache lines they span at width 4). The
     // distance query summed over the report's 24 poses (`spin mesh distance <pose> f32 1
     // 0.2`, the 12 trajectory poses and the 12 near-contact placements, two builds alternated
     // 16 times, 2026-11-27, the machine noisy): 3.36 -> 3.14 ms, medians, faster in 11 of the
