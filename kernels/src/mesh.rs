@@ -937,14 +937,12 @@ fn point_gap2(x: &[f64; 3], b: &([f64; 3], [f64; 3])) -> f64 {
     down(s)
 }
 
-/// The largest absolute coordinate of two boxes: a bound of the magnitude `S` of every
-/// triangle pair in them.
-///
-/// The largest of 0 and the coordinates' absolute values, NaN ignored (as by a chain of
-/// [`f64::max`] from 0), as a tree of compare-and-selects ([`most`]): it is every child's
-/// limit in every node test, and as a chain of twelve `f64::max` (three instructions each,
-/// one after the other) its instructions held about a quarter of `children`'s samples in
-/// `perf` of `spin mesh contacts 5 f32 1 4`.
+/// The largest absolute coordinate of two boxes (NaN ignored, as by
+/// [`f64::max`]): a bound of the magnitude `S` of every triangle pair in them. A tree of
+/// compare-and-selects ([`most`]): it feeds every child's limit in every node test, and as a
+/// chain of twelve `f64::max` (three instructions each, one after the other) it and the line
+/// waiting on it held 28 % of `children`'s samples (`perf record` of `spin mesh contacts 5
+/// f32 1 4`, `perf annotate`).
 fn magnitude(a: &Aabb, b: &Aabb) -> f64 {
     // per axis, the pairs from 0 (never NaN), then the tree of those
     let mut m = [0.0f64; 6];

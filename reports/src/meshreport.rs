@@ -184,8 +184,10 @@ const BUILD_TIMING: &str = "medians of at least 5 rounds of one build of each li
 /// that of 461b0e9, tridist's own time 0.058 and 0.104 ms, with no change to the query; `spin
 /// mesh distance 2 f32 1 0.5` gave 0.061 ms in the next session). Not call by call: each
 /// library's calls then met the other's data in the caches, and tridist's near-contact
-/// distance came out 1.5x slower on average (0.080 -> 0.118 ms, placement 8 0.036 -> 0.117;
-/// FCL's moved both ways), a different measurement from the repeated queries it had been.
+/// distance came out 1.5x slower on average in a report run of c7d7247 than in the committed
+/// one of e5239ff, though c7d7247's queries are the faster (0.080 -> 0.118 ms, placement 8
+/// 0.036 -> 0.117; FCL's moved both ways): a different measurement from the repeated queries
+/// the report had timed.
 const FCL_TIMING: &str = "tridist's and FCL's distance and intersection times per pose alternate in 5 rounds of one burst of each (a warm-up call, then repeated calls within a fifth of the budget: each library with its own data in the caches, as repeated queries have it), the median of the bursts' medians, so that a noisy moment of the shared machine falls on both";
 
 /// Median seconds per call of each of `fs`, timed in rounds of one call of each after a

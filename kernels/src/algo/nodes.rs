@@ -237,7 +237,8 @@ pub(crate) fn gaps<L: Lanes<S = f64>>(k: L::K, t: &NodeTest<'_>, out: &mut [f64;
     // distance query summed over the report's 24 poses (`spin mesh distance <pose> f32 1
     // 0.2`, the 12 trajectory poses and the 12 near-contact placements, two builds alternated
     // 16 times, 2026-11-27, the machine noisy): 3.36 -> 3.14 ms, medians, faster in 11 of the
-    // 16 rounds; callgrind counts 3.5 % fewer instructions in the node test at pose 9.
+    // 16 rounds; 3.5 % fewer instructions in the node test at pose 9 (`TRIDIST_ISA=avx2fma
+    // valgrind --tool=callgrind spin mesh distance 9 f32 1 0.001`).
     let fixed = &t.fixed[..(ROWS - 1) * t.fixed_stride + 1];
     let b = |r: usize| c(fixed[r * t.fixed_stride]);
     let mut base = 0;
