@@ -3,9 +3,8 @@
 
 use std::sync::OnceLock;
 
-use crate::algo::nodes::{Columns, NodeTest};
+use crate::algo::nodes::{Columns, Gaps, NodeTest};
 use crate::drv::Job;
-use crate::mesh::MAX_WIDTH;
 use crate::query::{for_each_query, Query};
 
 /// An instruction-set variant. Every variant runs the same algorithms (written once over a lane
@@ -110,7 +109,7 @@ pub(crate) trait Token: Copy + 'static {
     /// Runs an f64 job on this instruction set.
     fn run_f64(self, job: &mut Job<'_, f64>);
     /// The mesh traversal's node test on this instruction set ([`crate::algo::nodes::gaps`]).
-    fn node_gaps(self, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]);
+    fn node_gaps(self, t: &NodeTest<'_>, out: &mut Gaps);
     /// The mesh traversal's moved node bounds on this instruction set
     /// ([`crate::algo::nodes::columns`]).
     fn node_columns(self, job: &mut Columns<'_>);
@@ -162,7 +161,7 @@ macro_rules! portable_entries {
                     $(Query::$v => p64::$v::run(self, job),)*
                 }
             }
-            fn node_gaps(self, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]) {
+            fn node_gaps(self, t: &NodeTest<'_>, out: &mut Gaps) {
                 crate::algo::nodes::gaps::<f64>(self, t, out)
             }
             fn node_columns(self, job: &mut Columns<'_>) {
@@ -213,5 +212,5 @@ macro_rules! run_for {
 }
 run_for!(run_f32, job: &mut Job<'_, f32>);
 run_for!(run_f64, job: &mut Job<'_, f64>);
-run_for!(node_gaps, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]);
+run_for!(node_gaps, t: &NodeTest<'_>, out: &mut Gaps);
 run_for!(node_columns, job: &mut Columns<'_>);

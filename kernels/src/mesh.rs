@@ -149,7 +149,9 @@
 //! order and 0.036 shallowest first, which is slower at poses 4 and 5 (0.015 -> 0.036, 0.012
 //! -> 0.015 ms).
 
-use crate::algo::nodes::{Column, Columns, NodeTest, DOWN, HI, LO, ROWS, SC, SE, SH, SHI, SLO, SRHO, SROWS};
+use crate::algo::nodes::{
+    Column, Columns, Gaps, Limit, NodeTest, DOWN, HI, LO, ROWS, SC, SE, SH, SHI, SLO, SRHO, SROWS,
+};
 use crate::engine::Outputs;
 use crate::{ClosestPoints, Engine, Error, Intersection, Point, Pose, Query, Real, Triangle};
 
@@ -939,10 +941,11 @@ fn point_gap2(x: &[f64; 3], b: &([f64; 3], [f64; 3])) -> f64 {
 
 /// The largest absolute coordinate of two boxes (NaN ignored, as by
 /// [`f64::max`]): a bound of the magnitude `S` of every triangle pair in them. A tree of
-/// compare-and-selects ([`most`]): it feeds every child's limit in every node test, and as a
-/// chain of twelve `f64::max` (three instructions each, one after the other) it and the line
-/// waiting on it held 28 % of `children`'s samples (`perf record` of `spin mesh contacts 5
-/// f32 1 4`, `perf annotate`).
+/// compare-and-selects ([`most`]): as a chain of twelve `f64::max` (three instructions each,
+/// one after the other) it and the line waiting on it held 28 % of `children`'s samples when
+/// it fed every child's limit in every node test (`perf record` of `spin mesh contacts 5 f32 1
+/// 4`, `perf annotate`). The node test now computes those limits itself, a lane per child
+/// ([`Limit::Reach`]); this one serves the pair a visit takes ([`walk`]) and the roots.
 fn magnitude(a: &Aabb, b: &Aabb) -> f64 {
     // per axis, the pairs from 0 (never NaN), then the tree of those
     let mut m = [0.0f64; 6];
@@ -959,18 +962,20 @@ fn magnitude(a: &Aabb, b: &Aabb) -> f64 {
 /// `max(scaled u S, absolute, relative lo)`, plus a little for the rounding of the box tests
 /// (`8 u S`, far above it). Uncertified pairs (counted by the batch, rare) are outside this
 /// guarantee. Infinite when the relative tolerance is 1 or more.
-fn reach<T: Real>(tol: &crate::Tolerance, mag: f64, margin: f64) -> f64 {
-    let u = T::UNIT_ROUNDOFF.to_f64();
-    let width = margin + (tol.scaled + 8.0) * u * mag + tol.absolute;
+/// Squared, as the limit of a search ([`Limit::Reach`], evaluated at each node pair's
+/// magnitude).
+fn reach<T: Real>(tol: &crate::Tolerance, margin: f64) -> Limit {
+    let per = (tol.scaled + 8.0) * T::UNIT_ROUNDOFF.to_f64();
+    let (margin, absolute) = (margin, tol.absolute);
     if tol.relative == 0.0 {
         // (the default: the same number without a division; in perf of `spin mesh intersect 6
         // f32 1 3` the instructions waiting on it held about 12 % of `search`'s samples, this
         // being every node pair's limit)
-        width
+        Limit::Reach { margin, per, absolute, keep: None }
     } else if tol.relative < 1.0 {
-        width / (1.0 - tol.relative)
+        Limit::Reach { margin, per, absolute, keep: Some(1.0 - tol.relative) }
     } else {
-        f64::INFINITY
+        Limit::Fixed(f64::INFINITY)
     }
 }
 
@@ -1216,11 +1221,11 @@ fn siblings<T: Real>(
 ) {
     let (n, first) = (side.mesh.nodes[p as usize].kids as usize, side.mesh.nodes[p as usize].first);
     let (at, fixed_at) = (side.group(isa, p), other.bounds_at(f));
-    let (gap, lim) = node_test(isa, (side, at, n), (other, fixed_at), |x, y| s.limit(x, y));
+    let g = node_test(isa, (side, at, n), (other, fixed_at), s.limit());
     for j in 0..n {
-        if gap[j] <= lim[j] {
+        if g.gap[j] <= g.lim[j] {
             let (x, y) = pair(first + j as u32);
-            out.push((gap[j], x, y));
+            out.push((g.gap[j], x, y));
         }
     }
 }
@@ -1232,31 +1237,26 @@ fn node_test<T: Real>(
     isa: crate::Isa,
     (side, at, n): (&Side<'_, T>, usize, usize),
     (other, fixed_at): (&Side<'_, T>, usize),
-    limit: impl Fn(&Aabb, &Aabb) -> f64,
-) -> ([f64; MAX_WIDTH], [f64; MAX_WIDTH]) {
-    let fb = boxed(&other.slots.groups, fixed_at, other.stride);
-    let mut lim = [f64::NEG_INFINITY; MAX_WIDTH];
-    for (j, l) in lim.iter_mut().enumerate().take(n) {
-        *l = limit(&boxed(&side.slots.groups, at + j, side.stride), &fb);
-    }
+    limit: Limit,
+) -> Gaps {
     let t = NodeTest {
         group: &side.slots.groups[at..at + ROWS * side.stride],
         stride: side.stride,
         n,
         fixed: &other.slots.groups[fixed_at..],
         fixed_stride: other.stride,
-        lim,
+        limit,
     };
-    let mut gap = [0.0; MAX_WIDTH];
-    crate::isa::node_gaps(isa, &t, &mut gap);
-    (gap, lim)
+    let mut g = Gaps::new();
+    crate::isa::node_gaps(isa, &t, &mut g);
+    g
 }
 
 /// What one mesh-vs-mesh query does on the one traversal they share ([`search`]).
 trait Search<T: Real> {
-    /// The squared distance beyond which the triangle pairs in the boxes `bx`, `by` are not
-    /// needed.
-    fn limit(&self, bx: &Aabb, by: &Aabb) -> f64;
+    /// The squared distance beyond which the triangle pairs in two boxes are not needed (fixed,
+    /// or growing with the boxes' magnitude).
+    fn limit(&self) -> Limit;
     /// Whether to run the kernels on the pairs gathered so far at once, not waiting for
     /// [`FLUSH`] of them (distance: the first answer prunes the rest). `overlap`: the boxes of
     /// the leaf pair just gathered overlap (its lower bound is negative, [`Visit`]).
@@ -1347,8 +1347,8 @@ fn root_visit<T: Real>(
 ) -> Option<Visit> {
     // the root of a has a group of its own, every lane a copy ([`Side::bounds_at`])
     let (at, fixed_at) = (sa.bounds_at(0), sb.bounds_at(0));
-    let (gap, lim) = node_test(isa, (sa, at, 1), (sb, fixed_at), |x, y| s.limit(x, y));
-    (gap[0] <= lim[0]).then_some((gap[0], 0, 0))
+    let g = node_test(isa, (sa, at, 1), (sb, fixed_at), s.limit());
+    (g.gap[0] <= g.lim[0]).then_some((g.gap[0], 0, 0))
 }
 
 /// The child pairs of the internal pair (x, y) not pruned, into `out`, nearest last: the
@@ -1404,7 +1404,7 @@ fn walk<T: Real, S: Search<T>>(
         // order.
         loop {
             let (gap, x, y) = v;
-            let lim = s.limit(&sa.aabb(x), &sb.aabb(y));
+            let lim = s.limit().at(|| magnitude(&sa.aabb(x), &sb.aabb(y)));
             if gap > lim {
                 if best_first {
                     // Only the pair just taken from the heap can be beyond the limit here (a
@@ -1567,8 +1567,8 @@ fn less_slack(d: f64, slack: f64) -> f64 {
 }
 
 impl<T: Real> Search<T> for Nearest<T> {
-    fn limit(&self, _bx: &Aabb, _by: &Aabb) -> f64 {
-        self.lim
+    fn limit(&self) -> Limit {
+        Limit::Fixed(self.lim)
     }
     fn start(&mut self, mag: f64) {
         self.slack = Self::slack(&self.tol, mag);
@@ -1681,9 +1681,8 @@ impl<T: Real> Contacts<T> {
 }
 
 impl<T: Real> Search<T> for Contacts<T> {
-    fn limit(&self, bx: &Aabb, by: &Aabb) -> f64 {
-        let r = reach::<T>(&self.tol, magnitude(bx, by), self.bound);
-        r * r
+    fn limit(&self) -> Limit {
+        reach::<T>(&self.tol, self.bound)
     }
     fn flush(&mut self, e: &Engine, pend: &Pending<T>) -> Result<bool, Error> {
         let n = pend.ids.len();
@@ -1739,11 +1738,10 @@ impl FirstHit {
 }
 
 impl<T: Real> Search<T> for FirstHit {
-    fn limit(&self, bx: &Aabb, by: &Aabb) -> f64 {
+    fn limit(&self) -> Limit {
         // "Intersecting" is said of pairs within the tolerance of touching: boxes that far
         // apart are kept.
-        let r = reach::<T>(&self.tol, magnitude(bx, by), 0.0);
-        r * r
+        reach::<T>(&self.tol, 0.0)
     }
     fn eager(&self, _overlap: bool) -> bool {
         true
@@ -2287,7 +2285,7 @@ mod tests {
     ) -> [f64; super::MAX_WIDTH] {
         let n = sa.mesh.nodes[p as usize].kids as usize;
         let (at, fixed_at) = (sa.group(isa, p), sb.bounds_at(f));
-        super::node_test(isa, (sa, at, n), (sb, fixed_at), |_, _| lim).0
+        super::node_test(isa, (sa, at, n), (sb, fixed_at), super::Limit::Fixed(lim)).gap
     }
 
     /// Checks the moved bounds of every node of `m` in `pose` (see the test below); returns how
@@ -2520,6 +2518,60 @@ mod tests {
         assert!(checked > 50_000, "only {checked} triangle pairs checked");
         assert!(overlapping > 100, "only {overlapping} overlapping node pairs");
         eprintln!("largest difference between instruction sets: {worst:e} S over {checked} triangle pairs ({overlapping} overlapping node pairs)");
+    }
+
+    /// The limit the node test computes a lane per child ([`Limit::Reach`], the contact and
+    /// intersection searches') is, bit for bit, the scalar [`Limit::at`] of the child's and
+    /// the other node's moved boxes' [`magnitude`], on every instruction set, for every child of
+    /// every internal node against every node (near and far from the origin, different tree
+    /// widths, a margin and per-magnitude term of either size, with and without the relative
+    /// tolerance's division); lanes past the last child get `-inf`.
+    #[test]
+    fn lane_limits_are_the_scalar_limits_of_the_moved_boxes() {
+        use super::*;
+        let mut rnd = uniform(0x9e37_79b9_7f4a_7c15);
+        let isas: Vec<crate::Isa> = crate::Isa::ALL.into_iter().filter(|i| i.is_available()).collect();
+        let limits = [
+            Limit::Reach { margin: 0.02, per: 72.0 * f64::EPSILON / 2.0, absolute: 0.0, keep: None },
+            Limit::Reach { margin: 0.0, per: 1e-3, absolute: 1e-9, keep: Some(0.75) },
+        ];
+        let mut checked = 0usize;
+        for &(size, offset, wa, wb) in &[(1.0, 0.0, 4, 4), (1.0, 0.0, 8, 2), (1e-3, 1e4, 2, 8)] {
+            let mut mesh = |w: usize| {
+                let (v, t) = soup(&mut rnd, 48, size, offset);
+                Mesh::with_width(v, t, w).expect("mesh")
+            };
+            let (a, b) = (mesh(wa), mesh(wb));
+            let pa = Pose::from_axis_angle([1.0, 2.0, 3.0], 0.7, [0.1 * size, 0.0, -offset]).unwrap();
+            let pb = Pose::from_axis_angle([-2.0, 0.5, 1.0], 2.1, [0.0, 0.2 * size, 0.0]).unwrap();
+            let (mut sa, mut sb) = (Side::new(&a, &pa).expect("side"), Side::new(&b, &pb).expect("side"));
+            for p in (0..a.nodes.len() as u32).filter(|&p| a.nodes[p as usize].count == 0) {
+                let (n, first) = (a.nodes[p as usize].kids as usize, a.nodes[p as usize].first);
+                for f in 0..b.nodes.len() as u32 {
+                    for &isa in &isas {
+                        for limit in limits {
+                            let (at, fixed_at) = (sa.group(isa, p), sb.bounds_at(f));
+                            let g = node_test(isa, (&sa, at, n), (&sb, fixed_at), limit);
+                            let fb = sb.aabb(f);
+                            for j in 0..MAX_WIDTH {
+                                let want = if j < n {
+                                    limit.at(|| magnitude(&sa.aabb(first + j as u32), &fb))
+                                } else {
+                                    f64::NEG_INFINITY
+                                };
+                                assert_eq!(
+                                    g.lim[j].to_bits(),
+                                    want.to_bits(),
+                                    "{isa} child {j} of {p} vs {f}"
+                                );
+                                checked += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked > 10_000, "only {checked} limits checked");
     }
 
     /// Two triangles for each of `rows x cols` quads, whose corner `(i, j)` is vertex `at(i, j)`.

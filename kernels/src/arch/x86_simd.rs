@@ -19,11 +19,10 @@
 
 use core::arch::x86_64::*;
 
-use crate::algo::nodes::{Columns, NodeTest};
+use crate::algo::nodes::{Columns, Gaps, NodeTest};
 use crate::drv::Job;
 use crate::isa::{entry_modules, Isa, Token};
 use crate::lanes::{GatherIx, Lanes, Mask};
-use crate::mesh::MAX_WIDTH;
 use crate::query::{for_each_query, Query};
 
 /// Proof that SSE4.1 is available.
@@ -749,7 +748,7 @@ macro_rules! simd_entries {
                     $(Query::$v => unsafe { p64::$v::run(self, job) },)*
                 }
             }
-            fn node_gaps(self, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]) {
+            fn node_gaps(self, t: &NodeTest<'_>, out: &mut Gaps) {
                 // SAFETY: as above.
                 unsafe { node_gaps(self, t, out) }
             }
@@ -760,7 +759,7 @@ macro_rules! simd_entries {
         }
         /// The mesh traversal's node test with the instruction set enabled.
         #[target_feature(enable = $feat)]
-        fn node_gaps(k: $tok, t: &NodeTest<'_>, out: &mut [f64; MAX_WIDTH]) {
+        fn node_gaps(k: $tok, t: &NodeTest<'_>, out: &mut Gaps) {
             crate::algo::nodes::gaps::<$node>(k, t, out)
         }
         /// The mesh traversal's moved node bounds with the instruction set enabled.
