@@ -216,7 +216,7 @@ pub(crate) struct NodeTest<'a> {
 }
 
 /// A search's limit on the squared gap of a node pair: beyond it the pair is pruned.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Limit {
     /// The same for every pair.
     Fixed(f64),
