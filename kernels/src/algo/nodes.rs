@@ -296,10 +296,12 @@ pub(crate) fn gaps<L: Lanes<S = f64>>(k: L::K, t: &NodeTest<'_>, out: &mut Gaps)
     // valgrind --tool=callgrind spin mesh distance 9 f32 1 0.001`).
     let fixed = &t.fixed[..(ROWS - 1) * t.fixed_stride + 1];
     let b = |r: usize| c(fixed[r * t.fixed_stride]);
-    // the other node's magnitude, for a limit that grows with it
+    // the other node's magnitude, for a limit that grows with it (only then)
     let mut fixed_mag = 0.0f64;
-    for r in LO..HI + 3 {
-        fixed_mag = fixed_mag.max(fixed[r * t.fixed_stride].abs());
+    if let Limit::Reach { .. } = t.limit {
+        for r in LO..HI + 3 {
+            fixed_mag = fixed_mag.max(fixed[r * t.fixed_stride].abs());
+        }
     }
     let mut base = 0;
     while base < t.n {
