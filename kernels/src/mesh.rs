@@ -956,17 +956,16 @@ fn magnitude(a: &Aabb, b: &Aabb) -> f64 {
     most(most(most(m[0], m[1]), most(m[2], m[3])), most(m[4], m[5]))
 }
 
-/// How far apart (exactly) two triangles of magnitude at most `mag` may be and still be
-/// answered within `margin` by the kernels: an answer is at least its certified lower bound,
+/// How far apart (exactly) two triangles of magnitude at most `S` may be and still be
+/// answered within `margin` by the kernels, squared, as a search's limit ([`Limit::Reach`],
+/// taken at each node pair's magnitude): an answer is at least its certified lower bound,
 /// which is at least the exact distance less the tolerance width
 /// `max(scaled u S, absolute, relative lo)`, plus a little for the rounding of the box tests
 /// (`8 u S`, far above it). Uncertified pairs (counted by the batch, rare) are outside this
 /// guarantee. Infinite when the relative tolerance is 1 or more.
-/// Squared, as the limit of a search ([`Limit::Reach`], evaluated at each node pair's
-/// magnitude).
 fn reach<T: Real>(tol: &crate::Tolerance, margin: f64) -> Limit {
     let per = (tol.scaled + 8.0) * T::UNIT_ROUNDOFF.to_f64();
-    let (margin, absolute) = (margin, tol.absolute);
+    let absolute = tol.absolute;
     if tol.relative == 0.0 {
         // (the default: the same number without a division; in perf of `spin mesh intersect 6
         // f32 1 3` the instructions waiting on it held about 12 % of `search`'s samples, this
