@@ -1397,9 +1397,10 @@ fn walk<T: Real, S: Search<T>>(
     // limit costs nothing; a contact search with a cap narrows its limit as it goes). Taken
     // again for every visit, with the boxes read back for their magnitude, it held 10 % of
     // the contact query's samples at near-contact placement 3 (`perf record` of `spin mesh
-    // contacts n3 f32 1 3`); kept, contacts over the 12 near-contact placements 3.37 -> 3.05
+    // contacts n3 f32 1 3`); kept, contacts over the 12 near-contact placements 3.35 -> 3.05
     // ms and intersection over the 24 poses 0.452 -> 0.415 ms (f32, two builds alternated,
-    // medians, faster in 4 of 4 rounds each, 2026-11-28).
+    // `spin mesh <query> <pose> f32 1 <0.3|0.15 s>`'s mean time per call summed over the
+    // poses, the median of 4 rounds, faster in each, 2026-11-28).
     let start = s.limit();
     let mut todo = if best_first {
         Frontier::Best(stack.into_iter().map(Nearer).collect())

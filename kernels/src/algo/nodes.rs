@@ -312,12 +312,13 @@ pub(crate) fn gaps<L: Lanes<S = f64>>(k: L::K, t: &NodeTest<'_>, out: &mut Gaps)
                 // (a lane per child here, not child by child in scalar code before the test,
                 // where the limit and the boxes it read took 7 % of the contact query's
                 // samples at near-contact placement 3: `perf record` of `spin mesh contacts
-                // n3 f32 1 3`. Summed over the report's poses, two builds alternated,
-                // 2026-11-28, medians of calls within 0.15-0.3 s per pose: contacts f32 over
-                // the 12 near-contact placements 3.73 -> 3.35 ms, faster in 4 of 4 rounds,
-                // f64 4.19 -> 3.82 ms, 3 of 3; intersection over all 24 poses 0.503 -> 0.447
-                // ms, 4 of 4; and the distance query, whose limit is fixed but whose
-                // children's boxes were read for it all the same, 2.11 -> 1.88 ms, 3 of 3.)
+                // n3 f32 1 3`. Two builds alternated, 2026-11-28: `spin mesh <query> <pose>
+                // f32|f64 1 <0.15-0.3 s>`'s mean time per call, summed over the report's
+                // poses, the median of the rounds: contacts f32 over the 12 near-contact
+                // placements 3.73 -> 3.36 ms, faster in 4 of 4 rounds, f64 4.21 -> 3.82 ms,
+                // 3 of 3; intersection over all 24 poses 0.503 -> 0.448 ms, 4 of 4; and the
+                // distance query, whose limit is fixed but whose children's boxes were read
+                // for it all the same, 2.11 -> 1.88 ms, 3 of 3.)
                 let mut mag = c(fixed_mag);
                 for r in LO..HI + 3 {
                     mag = mag.max(a(r).abs());
