@@ -139,8 +139,10 @@ pub fn excess_within(d2_hat: f64, exact: &Rational, s: f64, prec: Precision, rea
 /// ULP error of the squared distance, only where `exact >= (2^10 u S)^2` and the exact value is
 /// representable (otherwise `None`: meaningless near contact).
 pub fn ulp_error(d2_hat: f64, exact: &Rational, s: f64, prec: Precision) -> Option<f64> {
-    let t = 1024.0 * prec.u * s;
-    let thr = Rational::from_f64(t * t)?;
+    if !s.is_finite() {
+        return None;
+    }
+    let thr = us_squared(1024.0, s, prec);
     if *exact < thr || prec.round(exact).is_infinite() || !d2_hat.is_finite() {
         return None;
     }
@@ -148,9 +150,16 @@ pub fn ulp_error(d2_hat: f64, exact: &Rational, s: f64, prec: Precision) -> Opti
     Some(Rational::from(&dh - exact).abs().to_f64() / prec.ulp(exact))
 }
 
-/// A contact miss: the exact distance is 0 but the kernel reports more than `c*u*S`.
+/// A contact miss: the exact distance is 0 but the kernel reports more than `c*u*S` (compared
+/// exactly: the squared answer against `(c u S)^2`).
 pub fn contact_miss(d2_hat: f64, exact: &Rational, s: f64, prec: Precision, c: f64) -> bool {
-    *exact == 0 && (d2_hat.is_nan() || d2_hat.sqrt() > c * prec.u * s)
+    if *exact != 0 {
+        return false;
+    }
+    match Rational::from_f64(d2_hat) {
+        None => d2_hat.is_nan() || (d2_hat == f64::INFINITY && s.is_finite()),
+        Some(d) => s.is_finite() && d > us_squared(c, s, prec),
+    }
 }
 
 /// A strict false zero: the exact distance is positive (and does not round to 0), the kernel
@@ -164,9 +173,24 @@ pub fn false_zero_strict(d2_hat: f64, exact: &Rational, prec: Precision) -> bool
 /// within rounding of the input; the strict count is reported separately.) A squared distance
 /// that rounds to 0 in the precision (underflow) is not a false zero.
 pub fn false_zero(d2_hat: f64, exact: &Rational, s: f64, prec: Precision, c: f64) -> bool {
-    let t = c * prec.u * s;
-    let thr = Rational::from_f64(t * t).unwrap_or_default();
-    d2_hat == 0.0 && *exact > thr && prec.round(exact) != 0.0
+    d2_hat == 0.0 && *exact > us_squared(c, s, prec) && prec.round(exact) != 0.0
+}
+
+/// `c u S` exactly (0 for a non-finite `c` or `S`). The thresholds of these metrics are
+/// multiples of `u S`, which in `f64` arithmetic underflows where `S` is near the smallest
+/// normal (`2^-53 * 2^-1022` is below the smallest subnormal; its square, far below): an
+/// all-subnormal f64 input (`S` is then the smallest normal) had no allowance at all, and an
+/// intersection verdict `2 u S` from touching, within the bound table's allowance, was judged
+/// wrong (`fuzz/regressions/intersect/subnormal-point-2uS-from-segment`).
+pub fn c_us(c: f64, s: f64, prec: Precision) -> Rational {
+    let r = |x: f64| Rational::from_f64(x).unwrap_or_default();
+    r(c) * r(prec.u) * r(s)
+}
+
+/// `(c u S)^2` exactly ([`c_us`]).
+fn us_squared(c: f64, s: f64, prec: Precision) -> Rational {
+    let t = c_us(c, s, prec);
+    Rational::from(&t * &t)
 }
 
 /// How far a returned point lies from its primitive (1, 2 or 3 points), scaled by `u*S`.

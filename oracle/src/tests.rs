@@ -196,6 +196,21 @@ fn metrics_behave() {
     assert!(!false_zero_strict(0.0, &(Rational::from(1) >> 400u32), F32)); // rounds to 0 in f32
     assert!(false_zero(0.0, &Rational::from((1, 1000)), 1.0, F32, 8.0));
     assert!(!false_zero(0.0, &(Rational::from(1) >> 60u32), 1.0, F32, 8.0)); // within 8 u S
+
+    // The thresholds in units of u S are exact where f64 arithmetic underflows: S the
+    // smallest normal (an all-subnormal f64 input), 65 u S = 65 * 2^-1075, which the plain
+    // product rounds to 0 (65 * u first) or to a multiple of the smallest subnormal.
+    let tiny_s = f64::MIN_POSITIVE;
+    assert_eq!(c_us(65.0, tiny_s, F64), Rational::from(65) >> 1075u32);
+    assert_eq!(65.0 * (F64.u * tiny_s), 0.0);
+    assert_eq!(c_us(8.0, f64::INFINITY, F64), 0);
+    // A contact miss is decided on the squares, exactly: with S = 2^500 (8 u S = 2^450), an
+    // answer just above (8 u S)^2 is a miss, one at it is not.
+    let big_s = 2f64.powi(500);
+    let thr2 = 2f64.powi(900);
+    assert!(contact_miss(f64::from_bits(thr2.to_bits() + 1), &Rational::new(), big_s, F64, 8.0));
+    assert!(!contact_miss(thr2, &Rational::new(), big_s, F64, 8.0));
+    assert!(contact_miss(f64::NAN, &Rational::new(), big_s, F64, 8.0));
     let t = exact_points(&A).unwrap();
     assert_eq!(point_offset([0.25, 0.25, 0.0], &t, 1.0, F64), 0.0);
     assert!(point_offset([0.25, 0.25, 1e-10], &t, 1.0, F64) > 1e5);

@@ -392,8 +392,8 @@ pub fn judge<T: Float>(
 ) -> Judged {
     let pr = prec::<T>();
     let d = out.d[i].to_f64();
-    let us = pr.u * t.s;
-    let allow_r = Rational::from_f64(allow * us).unwrap_or_default();
+    // exactly: `u S` underflows in f64 where S is near the smallest normal ([`metrics::c_us`])
+    let allow_r = metrics::c_us(allow, t.s, pr);
     if query.is_verdict() {
         let exact_hit = t.d2 == 0;
         let said = out.verdict[i].as_bool();
@@ -437,8 +437,15 @@ pub fn judge<T: Float>(
         let m2 = Rational::from_f64(m).map(|r| Rational::from(&r * &r)).unwrap_or_default();
         let within = t.d2 <= m2;
         let said = d.is_finite();
-        let near =
-            |x: f64| Rational::from_f64(x.max(0.0)).map(|r| Rational::from(&r * &r)).unwrap_or_default();
+        // the square of `m + x` (0 below 0), exactly
+        let near = |x: &Rational| {
+            let r = Rational::from_f64(m).unwrap_or_default() + x;
+            if r < 0 {
+                Rational::new()
+            } else {
+                Rational::from(&r * &r)
+            }
+        };
         if said != within {
             // The wrong side is allowed within `allow u S` of the margin, and where the squares
             // (what the caller compares) are within a few subnormal steps of each other: the
@@ -446,7 +453,8 @@ pub fn judge<T: Float>(
             let tiny = T::from_bits_u64(1).to_f64();
             let squares_close =
                 Rational::from(&t.d2 - &m2).abs() <= Rational::from_f64(4.0 * tiny).unwrap_or_default();
-            j.misjudged = !squares_close && (t.d2 > near(m + allow * us) || t.d2 < near(m - allow * us));
+            j.misjudged =
+                !squares_close && (t.d2 > near(&allow_r) || t.d2 < near(&Rational::from(-&allow_r)));
         }
         if !said {
             return j;

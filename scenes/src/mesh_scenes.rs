@@ -350,9 +350,10 @@ fn margins(dstar: f64, big_s: f64) -> [f64; 2] {
 }
 
 /// How far from a change of verdict a pair of magnitude `s` may get either verdict: the
-/// verdict contract, 65 u S.
-fn allowance(u: f64, s: f64) -> f64 {
-    65.0 * u * s
+/// verdict contract, 65 u S, exactly (in f64 arithmetic `u S` underflows to nothing where S is
+/// near the smallest normal; see `tridist_oracle::metrics::c_us`).
+fn allowance(u: f64, s: f64) -> Rational {
+    rat(65.0) * rat(u) * rat(s)
 }
 
 /// The exact squared distance of every triangle pair that can matter to the checks: pairs
@@ -398,7 +399,7 @@ impl<'a> Brute<'a> {
         // check_scene's margins grow with d* <= upper; rounded to T, plus the allowance
         let u = T::UNIT_ROUNDOFF.to_f64();
         let margin = margins(upper, big_s).into_iter().fold(0.0, f64::max) * (1.0 + 4.0 * u);
-        let far = (upper.max(margin + allowance(u, big_s))) * (1.0 + 1e-12);
+        let far = (upper.max(margin + allowance(u, big_s).to_f64())) * (1.0 + 1e-12);
         let d2 = ba
             .iter()
             .zip(ea)
@@ -535,18 +536,18 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
                     };
                     let s = mag(&[ta[i], tb[j]]);
                     let allow = allowance(u, s);
-                    let (lo, hi) = (m.to_f64() - allow, m.to_f64() + allow);
+                    let (lo, hi) = (rat(m.to_f64()) - &allow, rat(m.to_f64()) + &allow);
                     // (a pair within `allow` of the margin may go either way; when the margin
                     // is below the allowance, that includes touching pairs: the kernels answer
                     // an exact 0 within `c u S`, as the triangle suite's contact misses allow)
-                    if lo > 0.0 && *d <= rat(lo) * rat(lo) {
+                    if lo > 0 && *d <= Rational::from(&lo * &lo) {
                         ensure!(
                             seen.contains(&(i, j)),
                             "{tag}: pair ({i}, {j}) at {} within margin {margin} missed",
                             d.to_f64().sqrt()
                         );
                     }
-                    if *d > rat(hi) * rat(hi) {
+                    if *d > Rational::from(&hi * &hi) {
                         ensure!(
                             !seen.contains(&(i, j)),
                             "{tag}: pair ({i}, {j}) at {} beyond margin {margin} reported",
@@ -575,7 +576,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
                 let allow = allowance(u, mag(&[ta[i], tb[j]]));
                 let d = d2.get(i, j);
                 ensure!(
-                    d <= rat(allow) * rat(allow),
+                    d <= Rational::from(&allow * &allow),
                     "{tag}: pair ({i}, {j}) said intersecting at {}",
                     d.to_f64().sqrt()
                 );
