@@ -350,10 +350,10 @@ fn margins(dstar: f64, big_s: f64) -> [f64; 2] {
 }
 
 /// How far from a change of verdict a pair of magnitude `s` may get either verdict: the
-/// verdict contract, 65 u S, exactly (in f64 arithmetic `u S` underflows to nothing where S is
-/// near the smallest normal; see `tridist_oracle::metrics::c_us`).
-fn allowance(u: f64, s: f64) -> Rational {
-    rat(65.0) * rat(u) * rat(s)
+/// verdict contract, 65 u S, exactly ([`oracle::metrics::c_us`]: in f64 arithmetic `u S`
+/// underflows to nothing where S is near the smallest normal).
+fn allowance<T: Real>(s: f64) -> Rational {
+    oracle::metrics::c_us(65.0, s, crate::float::metrics_precision(T::PRECISION))
 }
 
 /// The exact squared distance of every triangle pair that can matter to the checks: pairs
@@ -399,7 +399,7 @@ impl<'a> Brute<'a> {
         // check_scene's margins grow with d* <= upper; rounded to T, plus the allowance
         let u = T::UNIT_ROUNDOFF.to_f64();
         let margin = margins(upper, big_s).into_iter().fold(0.0, f64::max) * (1.0 + 4.0 * u);
-        let far = (upper.max(margin + allowance(u, big_s).to_f64())) * (1.0 + 1e-12);
+        let far = (upper.max(margin + allowance::<T>(big_s).to_f64())) * (1.0 + 1e-12);
         let d2 = ba
             .iter()
             .zip(ea)
@@ -535,7 +535,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
                         continue;
                     };
                     let s = mag(&[ta[i], tb[j]]);
-                    let allow = allowance(u, s);
+                    let allow = allowance::<T>(s);
                     let (lo, hi) = (rat(m.to_f64()) - &allow, rat(m.to_f64()) + &allow);
                     // (a pair within `allow` of the margin may go either way; when the margin
                     // is below the allowance, that includes touching pairs: the kernels answer
@@ -573,7 +573,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         // 3. intersection
         match e.mesh_intersect(&ma, &pa, &mb, &pb).map_err(|e| format!("{tag}: {e}"))? {
             Some((i, j)) => {
-                let allow = allowance(u, mag(&[ta[i], tb[j]]));
+                let allow = allowance::<T>(mag(&[ta[i], tb[j]]));
                 let d = d2.get(i, j);
                 ensure!(
                     d <= Rational::from(&allow * &allow),
