@@ -3,13 +3,13 @@
 //! (`full`: without the quick stage, `Engine::quick_stage(false)`),
 //! or a mesh query on the mesh report's scene (Armadillo fixed, fandisk at trajectory pose
 //! `k` of 12, or at near-contact placement `n<k>` of MESH.md, 0.001 apart):
-//! `spin mesh contacts|distance|intersect|build <k>|n<k> f32|f64 <threads> <secs>`.
+//! `spin mesh contacts|distance|intersect|build <k>|n<k> f32|f64 <threads> <secs> [leaf]`.
 use tridist::{Engine, Intersection, Isa, Query};
 use tridist_scenes::workload::Workload;
 use tridist_scenes::{families, Family};
 
 const USAGE: &str = "usage: spin <query> <family|arm_nearby> f32|f64 <variant|fcl> <secs> [pairs [threads [sqdist|points [quick|full]]]]
-       spin mesh contacts|distance|intersect|build <pose 0-11 | near placement n0-n11> f32|f64 <threads> <secs>";
+       spin mesh contacts|distance|intersect|build <pose 0-11 | near placement n0-n11> f32|f64 <threads> <secs> [leaf size]";
 
 /// Bad arguments: the reason and the usage on stderr, exit status 2.
 fn usage(why: &str) -> ! {
@@ -20,8 +20,8 @@ fn usage(why: &str) -> ! {
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
     if a.first().is_some_and(|x| x == "mesh") {
-        if a.len() != 6 {
-            usage("a mesh query takes 5 arguments");
+        if !(6..=7).contains(&a.len()) {
+            usage("a mesh query takes 5 arguments and an optional leaf size");
         }
         return match a[3].as_str() {
             "f32" => mesh::<f32>(&a),
@@ -125,13 +125,22 @@ fn main() {
     println!("{:.2} M/s", n as f64 / t.elapsed().as_secs_f64() / 1e6);
 }
 
-/// `spin mesh <query> <pose> <precision> <threads> <secs>`: calls per second and the answer's size.
+/// `spin mesh <query> <pose> <precision> <threads> <secs> [leaf]`: calls per second and the
+/// answer's size (trees of `leaf` triangles per leaf, the default's when not given).
 fn mesh<T: tridist::Real>(a: &[String]) {
-    use tridist::{Mesh, Pose};
+    use tridist::{Mesh, Pose, TreeShape};
     let load = |f: &str| tridist_scenes::protocol::carried_normalised(f).expect("carried mesh");
     let (arm, fan) = (load("armadillo.off"), load("fandisk_large.off"));
+    let shape = match a.get(6) {
+        Some(l) => TreeShape {
+            leaf: l.parse().unwrap_or_else(|_| usage("the leaf size is a number")),
+            ..TreeShape::default()
+        },
+        None => TreeShape::default(),
+    };
     let tm = |m: &tridist_scenes::mesh::Mesh| {
-        Mesh::new(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone()).expect("mesh")
+        let v = m.vertices.iter().map(|p| p.map(T::from_f64)).collect();
+        Mesh::with_shape(v, m.triangles.clone(), shape).unwrap_or_else(|e| usage(&e.to_string()))
     };
     // a trajectory pose `k`, or a near-contact placement `n<k>`
     let (near, k) = match a[2].strip_prefix('n') {

@@ -52,6 +52,8 @@ pub enum Error {
     InvalidRotation,
     /// A tree width outside `2..=8` ([`crate::Mesh::with_width`]).
     InvalidTreeWidth(usize),
+    /// A leaf size outside `1..=8` ([`crate::Mesh::with_shape`]).
+    InvalidLeafSize(usize),
     /// A mesh vertex has a NaN or infinite coordinate ([`crate::Mesh::new`]).
     NonFiniteVertex {
         /// The vertex number.
@@ -104,6 +106,7 @@ impl core::fmt::Display for Error {
                 write!(f, "a rotation needs a finite, non-zero axis and a finite angle")
             }
             Error::InvalidTreeWidth(w) => write!(f, "tree width {w}: a node has 2 to 8 children"),
+            Error::InvalidLeafSize(n) => write!(f, "leaf size {n}: a leaf holds 1 to 8 triangles"),
             Error::NonFiniteVertex { vertex } => write!(f, "vertex {vertex} has a NaN or infinite coordinate"),
             Error::NonFiniteCoordinate => {
                 write!(f, "a coordinate is NaN or infinite (a query point, or a vertex moved out of range)")

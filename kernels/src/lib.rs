@@ -107,8 +107,8 @@ pub use engine::{Engine, Outputs, PenaltyOptions, Prims, Tolerance, ISA_ENV};
 pub use error::Error;
 pub use isa::Isa;
 pub use mesh::{
-    Contact, Mesh, MeshDistance, MeshPoint, DEFAULT_WIDTH, MAX_WIDTH, MESH_DISTANCE_SLACK,
-    MESH_DISTANCE_WIDEN_AFTER,
+    Contact, Mesh, MeshDistance, MeshPoint, TreeShape, DEFAULT_LEAF, DEFAULT_WIDTH, MAX_LEAF, MAX_WIDTH,
+    MESH_DISTANCE_SLACK, MESH_DISTANCE_WIDEN_AFTER,
 };
 pub use pose::{AsPoint, Pose};
 pub use query::Query;

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Args;
-use tridist::{Engine, Mesh, Pose, Real};
+use tridist::{Engine, Mesh, Pose, Real, TreeShape};
 use tridist_scenes::eval::Variant;
 
 use crate::{parse_variant, Fail, Prec};
@@ -44,6 +44,31 @@ pub struct MeshArgs {
     /// `TRIDIST_ISA` names).
     #[arg(long, default_value = "auto", value_parser = parse_variant)]
     pub variant: Variant,
+    /// Most children of a tree node, 2 to 8 (`Mesh::with_shape`); the answers are the same
+    /// for every tree, only the time differs.
+    #[arg(long, default_value_t = tridist::DEFAULT_WIDTH, value_parser = tree_width, allow_negative_numbers = true)]
+    pub width: usize,
+    /// Most triangles of a tree leaf, 1 to 8: larger leaves build faster and suit contact
+    /// queries (`--margin`); see "Leaf size" in reports/MESH.md.
+    #[arg(long, default_value_t = tridist::DEFAULT_LEAF, value_parser = leaf_size, allow_negative_numbers = true)]
+    pub leaf: usize,
+}
+
+/// A tree width the library accepts (its own check, so the message is the library's).
+fn tree_width(s: &str) -> Result<usize, String> {
+    let w: usize = s.parse().map_err(|e| format!("{e}"))?;
+    shape_ok(TreeShape { width: w, ..TreeShape::default() }).map(|()| w)
+}
+
+/// A leaf size the library accepts.
+fn leaf_size(s: &str) -> Result<usize, String> {
+    let n: usize = s.parse().map_err(|e| format!("{e}"))?;
+    shape_ok(TreeShape { leaf: n, ..TreeShape::default() }).map(|()| n)
+}
+
+/// Whether the library builds a tree of `shape` (on one triangle).
+fn shape_ok(shape: TreeShape) -> Result<(), String> {
+    Mesh::<f64>::with_shape(vec![[0.0; 3]; 3], vec![[0, 1, 2]], shape).map(|_| ()).map_err(|e| e.to_string())
 }
 
 fn parse_list(s: &str) -> Result<Vec<f64>, String> {
@@ -82,11 +107,11 @@ fn pose<T: Real>(p: &[f64; 7]) -> Result<Pose<T>, String> {
         .map_err(|e| format!("{e} (in {})", T::PRECISION.name()))
 }
 
-fn load<T: Real>(path: &std::path::Path) -> Result<Mesh<T>, Fail> {
+fn load<T: Real>(path: &std::path::Path, shape: TreeShape) -> Result<Mesh<T>, Fail> {
     // the loader's errors name the file
     let m = tridist_scenes::mesh::Mesh::load(path).map_err(|e| Fail(e.to_string()))?;
     let v = m.vertices.iter().map(|p| p.map(T::from_f64)).collect();
-    Mesh::new(v, m.triangles).map_err(|e| Fail(format!("{}: {e}", path.display())))
+    Mesh::with_shape(v, m.triangles, shape).map_err(|e| Fail(format!("{}: {e}", path.display())))
 }
 
 /// A number as the shortest decimal that reads back to it, in exponent form when plain
@@ -141,18 +166,21 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
     }
     let e = Engine::new(a.variant.isa())?;
     let t0 = Instant::now();
-    let (ma, mb) = (load::<T>(&a.a)?, load::<T>(&a.b)?);
+    let shape = TreeShape { width: a.width, leaf: a.leaf };
+    let (ma, mb) = (load::<T>(&a.a, shape)?, load::<T>(&a.b, shape)?);
     let build = t0.elapsed().as_secs_f64();
     let (pa, pb) = (
         pose::<T>(&a.pose_a).map_err(|e| Fail(format!("--pose-a: {e}")))?,
         pose::<T>(&a.pose_b).map_err(|e| Fail(format!("--pose-b: {e}")))?,
     );
     outln!(
-        "meshes: {} triangles ({} nodes), {} triangles ({} nodes); load and build {:.3} s; {} {}",
+        "meshes: {} triangles ({} nodes), {} triangles ({} nodes; trees of width {}, leaves of {}); load and build {:.3} s; {} {}",
         ma.len(),
         ma.node_count(),
         mb.len(),
         mb.node_count(),
+        a.width,
+        a.leaf,
         build,
         e.isa(),
         T::PRECISION.name()

@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
-use tridist::{Engine, Mesh, Pose, Precision, Real};
+use tridist::{Engine, Mesh, Pose, Precision, Real, TreeShape};
 use tridist_scenes::mesh_scenes::TREE_WIDTHS;
 use tridist_scenes::peer::{FclMesh, Peer, PeerPose};
 use tridist_scenes::protocol::{carried_normalised as normalised, trajectory_pose as pose_k, NEAR_GAP};
@@ -37,12 +37,12 @@ struct Row {
 
 /// A scene mesh as tridist's, rounded to `T`.
 fn mesh<T: Real>(m: &tridist_scenes::mesh::Mesh) -> Result<Mesh<T>, String> {
-    mesh_width(m, tridist::DEFAULT_WIDTH)
+    mesh_shaped(m, TreeShape::default())
 }
 
-/// [`mesh`] with a tree of `width`.
-fn mesh_width<T: Real>(m: &tridist_scenes::mesh::Mesh, width: usize) -> Result<Mesh<T>, String> {
-    Mesh::with_width(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone(), width)
+/// [`mesh`] with a tree of `shape`.
+fn mesh_shaped<T: Real>(m: &tridist_scenes::mesh::Mesh, shape: TreeShape) -> Result<Mesh<T>, String> {
+    Mesh::with_shape(m.vertices.iter().map(|p| p.map(T::from_f64)).collect(), m.triangles.clone(), shape)
         .map_err(|e| e.to_string())
 }
 
@@ -51,40 +51,47 @@ fn pose_in<T: Real>(p: &Pose<f64>) -> Pose<T> {
     Pose { rotation: p.rotation.map(|r| r.map(T::from_f64)), translation: p.translation.map(T::from_f64) }
 }
 
-/// One tree width's means: build of both meshes, nodes of both; per trajectory pose distance,
-/// intersection, contacts; per near placement distance, intersection (seconds).
-struct WidthRow {
-    width: usize,
+/// One tree shape's means: build of both meshes, nodes of both; per trajectory pose
+/// distance, intersection, contacts; per near placement distance, intersection, contacts
+/// (seconds).
+struct ShapeRow {
+    shape: TreeShape,
     nodes: usize,
     build: f64,
-    t: [f64; 5],
+    t: [f64; 6],
 }
 
-/// Every width of [`TREE_WIDTHS`] on the same poses, the widths alternated pose by pose (so
-/// the machine's drift falls on all of them alike), checked to give the same answers.
-fn width_rows<T: Real>(
+/// The leaf sizes the report's "Leaf size" table compares (at the default width).
+const REPORT_LEAVES: [usize; 4] = [2, 4, 6, 8];
+
+/// Every shape of `shapes` on the same poses, the shapes alternated pose by pose (so the
+/// machine's drift falls on all of them alike), checked to give the same answers.
+fn shape_rows<T: Real>(
     a: &tridist_scenes::mesh::Mesh,
     b: &tridist_scenes::mesh::Mesh,
+    shapes: &[TreeShape],
     budget: Duration,
     poses: usize,
     near: &[Pose<f64>],
-) -> Result<Vec<WidthRow>, String> {
+) -> Result<Vec<ShapeRow>, String> {
     let e = Engine::auto();
     let id = Pose::<T>::identity();
     let mut trees = Vec::new();
     let mut rows = Vec::new();
-    for w in TREE_WIDTHS {
+    for &shape in shapes {
         let mut built = None;
-        let build = median_time(|| built = Some((mesh_width::<T>(a, w), mesh_width::<T>(b, w))), budget);
+        let build =
+            median_time(|| built = Some((mesh_shaped::<T>(a, shape), mesh_shaped::<T>(b, shape))), budget);
         let (ma, mb) = built.ok_or("no build")?;
         let (ma, mb) = (ma?, mb?);
-        rows.push(WidthRow { width: w, nodes: ma.node_count() + mb.node_count(), build, t: [0.0; 5] });
+        rows.push(ShapeRow { shape, nodes: ma.node_count() + mb.node_count(), build, t: [0.0; 6] });
         trees.push((ma, mb));
     }
     let all: Vec<(bool, Pose<T>)> = (0..poses)
         .map(|k| (true, pose_in::<T>(&pose_k(k, poses).1)))
         .chain(near.iter().map(|p| (false, pose_in::<T>(p))))
         .collect();
+    let m = T::from_f64(0.02);
     for (on_path, p) in &all {
         let mut seen: Option<(f64, bool, usize)> = None;
         for ((ma, mb), row) in trees.iter().zip(&mut rows) {
@@ -94,26 +101,20 @@ fn width_rows<T: Real>(
                 budget,
             );
             let t_i = median_time(|| hit = matches!(e.mesh_intersect(ma, &id, mb, p), Ok(Some(_))), budget);
-            let n = (if *on_path { poses } else { near.len() }) as f64;
-            if *on_path {
-                let m = T::from_f64(0.02);
-                let t_c = median_time(
-                    || c = e.mesh_contacts(ma, &id, mb, p, m, None).map_or(usize::MAX, |c| c.len()),
-                    budget,
-                );
-                row.t[0] += t_d / n;
-                row.t[1] += t_i / n;
-                row.t[2] += t_c / n;
-            } else {
-                row.t[3] += t_d / n;
-                row.t[4] += t_i / n;
+            let t_c = median_time(
+                || c = e.mesh_contacts(ma, &id, mb, p, m, None).map_or(usize::MAX, |c| c.len()),
+                budget,
+            );
+            let (n, at) = if *on_path { (poses, 0) } else { (near.len(), 3) };
+            for (k, t) in [t_d, t_i, t_c].into_iter().enumerate() {
+                row.t[at + k] += t / n as f64;
             }
-            // the same answers at every width (distance bit for bit, verdict, contact count)
+            // the same answers for every shape (distance bit for bit, verdict, contact count)
             let now = (d, hit, c);
             if seen.is_some_and(|s| s.0.to_bits() != now.0.to_bits() || s.1 != now.1 || s.2 != now.2) {
                 return Err(format!(
-                    "tree width {}: answers differ from width {}: {now:?} vs {seen:?}",
-                    row.width, TREE_WIDTHS[0]
+                    "tree {:?}: answers differ from {:?}: {now:?} vs {seen:?}",
+                    row.shape, shapes[0]
                 ));
             }
             seen = Some(now);
@@ -122,35 +123,29 @@ fn width_rows<T: Real>(
     Ok(rows)
 }
 
-/// The tree-width section of MESH.md.
-fn widths_md(
+/// One table of [`shape_rows`] per precision, a row per shape (`label` names it), its times
+/// also as ratios to the default shape's.
+fn shapes_md(
     t: &mut String,
-    a: &tridist_scenes::mesh::Mesh,
-    b: &tridist_scenes::mesh::Mesh,
+    (a, b): (&tridist_scenes::mesh::Mesh, &tridist_scenes::mesh::Mesh),
     s: &Settings,
     near: &[Pose<f64>],
+    shapes: &[TreeShape],
+    label: (&str, fn(&TreeShape) -> usize),
 ) -> Result<(), String> {
-    let _ = writeln!(
-        t,
-        "## Tree width
-
-The same binary splits (binned surface-area splits, see the `mesh` module's docs) collapsed into trees of 2, 4 and 8 children per node (`Mesh::with_width`: a node's children are the binary descendants found by opening the one of largest box area until there are that many, so every width has the same tree quality; the default is {}). The node tests (box and oriented-box gaps in f64) run on the engine's instruction set with a lane per child: on avx2fma's 4 f64 lanes, one vector per node of width 4, two of width 8, and half-empty vectors at width 2; a wider tree visits fewer levels and tests more child pairs per visit. Means per pose over the {} trajectory poses (distance, intersection, contacts within 0.02) and the {} near-contact placements above; the widths alternated pose by pose, one thread, `Engine::auto()`; every width gave the same answers (distance bit for bit, verdict, contact count), checked.
-",
-        tridist::DEFAULT_WIDTH,
-        s.mesh_poses,
-        near.len()
-    );
     for p in [Precision::F32, Precision::F64] {
         let rows = match p {
-            Precision::F32 => width_rows::<f32>(a, b, s.budget, s.mesh_poses, near)?,
-            Precision::F64 => width_rows::<f64>(a, b, s.budget, s.mesh_poses, near)?,
+            Precision::F32 => shape_rows::<f32>(a, b, shapes, s.budget, s.mesh_poses, near)?,
+            Precision::F64 => shape_rows::<f64>(a, b, shapes, s.budget, s.mesh_poses, near)?,
         };
-        let _ = writeln!(t, "| {} width | nodes (both) | build ms (both) | distance ms | intersect ms | contacts ms | near: distance ms | near: intersect ms | distance vs binary |\n|---|---|---|---|---|---|---|---|---|", p.name());
+        let def = rows.iter().find(|r| r.shape == TreeShape::default()).ok_or("no default shape")?;
+        let (build0, t0) = (def.build, def.t);
+        let _ = writeln!(t, "| {} {} | nodes (both) | build ms (both) | distance ms | intersect ms | contacts ms | near: distance ms | near: intersect ms | near: contacts ms | build, default's / this | distance | near: distance | near: contacts |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|", p.name(), label.0);
         for r in &rows {
             let _ = writeln!(
                 t,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-                r.width,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                (label.1)(&r.shape),
                 r.nodes,
                 ms(r.build),
                 ms(r.t[0]),
@@ -158,12 +153,51 @@ The same binary splits (binned surface-area splits, see the `mesh` module's docs
                 ms(r.t[2]),
                 ms(r.t[3]),
                 ms(r.t[4]),
-                ratio(rows[0].t[0] / r.t[0], 2)
+                ms(r.t[5]),
+                ratio(build0 / r.build, 2),
+                ratio(t0[0] / r.t[0], 2),
+                ratio(t0[3] / r.t[3], 2),
+                ratio(t0[5] / r.t[5], 2),
             );
         }
         let _ = writeln!(t);
     }
     Ok(())
+}
+
+/// The tree-width and leaf-size sections of MESH.md.
+fn shapes_sections(
+    t: &mut String,
+    a: &tridist_scenes::mesh::Mesh,
+    b: &tridist_scenes::mesh::Mesh,
+    s: &Settings,
+    near: &[Pose<f64>],
+) -> Result<(), String> {
+    let d = TreeShape::default();
+    let _ = writeln!(
+        t,
+        "## Tree width
+
+The same binary splits (binned surface-area splits, see the `mesh` module's docs) collapsed into trees of 2, 4 and 8 children per node (`Mesh::with_width`: a node's children are the binary descendants found by opening the one of largest box area until there are that many, so every width has the same tree quality; the default is {}), {} triangles per leaf. The node tests (box and oriented-box gaps in f64) run on the engine's instruction set with a lane per child: on avx2fma's 4 f64 lanes, one vector per node of width 4, two of width 8, and half-empty vectors at width 2; a wider tree visits fewer levels and tests more child pairs per visit. Means per pose over the {} trajectory poses and the {} near-contact placements above (distance, intersection, contacts within 0.02); the widths alternated pose by pose, one thread, `Engine::auto()`; every width gave the same answers (distance bit for bit, verdict, contact count), checked. The ratios are the default's time over this width's (above 1: faster than the default).
+",
+        d.width,
+        d.leaf,
+        s.mesh_poses,
+        near.len()
+    );
+    let widths: Vec<TreeShape> = TREE_WIDTHS.iter().map(|&width| TreeShape { width, ..d }).collect();
+    shapes_md(t, (a, b), s, near, &widths, ("width", |s| s.width))?;
+    let _ = writeln!(
+        t,
+        "## Leaf size
+
+The same splits stopped at leaves of at most 2, 4, 6 and 8 triangles (`Mesh::with_shape`, `TreeShape {{ width, leaf }}`; the default is {} at width {}), measured as the table above (the leaf sizes alternated pose by pose, the same answers checked). A larger leaf means fewer nodes to build and to test, and more triangle pairs handed to the kernels per leaf pair: the contact query, which visits every node pair within its margin, and the build gain; the distance and intersection queries, which stop early, answer more pairs than they need.
+",
+        d.leaf,
+        d.width
+    );
+    let leaves: Vec<TreeShape> = REPORT_LEAVES.iter().map(|&leaf| TreeShape { leaf, ..d }).collect();
+    shapes_md(t, (a, b), s, near, &leaves, ("leaf", |s| s.leaf))
 }
 
 /// The agreement cell: "ok", or how far the libraries' distances differ.
@@ -607,12 +641,13 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         header("Mesh queries: tridist, FCL and parry3d on the same meshes and poses", &s.command, seed);
     let _ = writeln!(
         t,
-        "Armadillo ({} triangles) fixed at the origin, fandisk ({} triangles) moved along the seed's trajectory: {} poses from 3 units on one side through the armadillo to 3 units on the other, rotating once about (1, 2, 3); both meshes scaled to [-1, 1]^3. tridist: `Engine::auto()` ({}), a tree of {} children per node (see Tree width below) with an axis-aligned and an oriented box per node (pruning by the larger gap), 4 triangles per leaf, the batch kernels at the leaves; distance with closest points (`mesh_distance`), `mesh_intersect`, `mesh_contacts`. FCL 0.7, double, the library as the distribution ships it (`libfcl-dev`; the shim's glue only is compiled here, so unlike the triangle peer it is not built with `-march=native`): `BVHModel<OBBRSS>`, `fcl::distance` with nearest points and `fcl::collide` (one contact), {}. parry3d / parry3d-f64 0.31: `TriMesh`, `query::distance` and `query::intersection_test`. Times: the median of repeated calls within {} ms per measurement, one thread (the contact query also on two), the same run; {FCL_TIMING}. Contacts: the triangle pairs within 0.02 (1 % of the scene's size) with their distances and closest points; FCL and parry have no such query here. Agreement: the distances of the three libraries (the poses are built from the same axis and angle: parry rotates by a quaternion, tridist and FCL by the same matrix, so they differ in rounding) and the intersection verdicts.\n",
+        "Armadillo ({} triangles) fixed at the origin, fandisk ({} triangles) moved along the seed's trajectory: {} poses from 3 units on one side through the armadillo to 3 units on the other, rotating once about (1, 2, 3); both meshes scaled to [-1, 1]^3. tridist: `Engine::auto()` ({}), a tree of {} children per node (see Tree width below) with an axis-aligned and an oriented box per node (pruning by the larger gap), {} triangles per leaf (see Leaf size below), the batch kernels at the leaves; distance with closest points (`mesh_distance`), `mesh_intersect`, `mesh_contacts`. FCL 0.7, double, the library as the distribution ships it (`libfcl-dev`; the shim's glue only is compiled here, so unlike the triangle peer it is not built with `-march=native`): `BVHModel<OBBRSS>`, `fcl::distance` with nearest points and `fcl::collide` (one contact), {}. parry3d / parry3d-f64 0.31: `TriMesh`, `query::distance` and `query::intersection_test`. Times: the median of repeated calls within {} ms per measurement, one thread (the contact query also on two), the same run; {FCL_TIMING}. Contacts: the triangle pairs within 0.02 (1 % of the scene's size) with their distances and closest points; FCL and parry have no such query here. Agreement: the distances of the three libraries (the poses are built from the same axis and angle: parry rotates by a quaternion, tridist and FCL by the same matrix, so they differ in rounding) and the intersection verdicts.\n",
         a.triangles.len(),
         b.triangles.len(),
         s.mesh_poses,
         Engine::auto().isa(),
         tridist::DEFAULT_WIDTH,
+        tridist::DEFAULT_LEAF,
         if FclMesh::available() { "measured" } else { "**not measured: FCL was not found at build time** (`apt-get install libfcl-dev libeigen3-dev`, then rebuild)" },
         s.budget.as_millis()
     );
@@ -698,7 +733,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
     let _ = writeln!(t, "Contacts on two threads: `Engine::threads(2)`, the traversal split into pieces walked in parallel and the contacts sorted in parallel (same contacts, same order); per pose, one and two threads measured alternately, three rounds, medians. The summary's figure at the pose with the most contacts is measured again, {SCALING_ROUNDS} rounds of at least 250 ms per measurement: one thread, two threads, and, as the machine's ceiling at that moment, two independent one-thread workers running the query at once (their combined speed over one thread's; this machine's two cores are shared, so that ceiling is below 2x when other work runs), medians.\n");
     let near = near_rows(&a, &b, s.budget, s.mesh_poses, seed)?;
     let near_summary = near_md(&mut t, &near);
-    widths_md(&mut t, &a, &b, s, &near.iter().map(|r| r.pose).collect::<Vec<_>>())?;
+    shapes_sections(&mut t, &a, &b, s, &near.iter().map(|r| r.pose).collect::<Vec<_>>())?;
     let (m32, m64) = (means[0], means[1]);
     let summary = format!(
         "- Mesh distance with closest points, Armadillo vs fandisk ({} poses through each other), one thread, mean per pose: tridist f32 {} ms, f64 {} ms; FCL (OBBRSS, double) {} ms: **{} (f32)** and **{} (f64)** FCL's speed; parry3d {:.1}x slower than tridist f32. Collision: tridist {} ms, FCL {} ms. Contacts within 1 % of the scene's size on two threads, at the pose with the most contacts: {} (f32) and {} (f64) one thread's speed (two independent one-thread workers at the same time: {} and {}).{near_summary} Tree build of both meshes ({BUILD_TIMING}): tridist f32 {} ms, f64 {} ms (axis-aligned and oriented boxes); parry3d f32 {} ms, f64 {} ms (axis-aligned boxes), so tridist takes {} (f32) and {} (f64) parry3d's time; FCL (OBBRSS) {} ms ([reports/MESH.md](reports/MESH.md)).",

@@ -185,6 +185,8 @@ fn usage_errors_exit_2_with_the_usage_and_runtime_errors_exit_3_without() {
         &["judge", "--cases", "c", "--answers", "a", "--precision", "f32", "--max-misclassified", "-1"],
         &["mesh", "a", "b", "--show", "-1"],
         &["mesh", "a", "b", "--max-contacts", "-1"],
+        &["mesh", "a", "b", "--leaf", "-1"],
+        &["mesh", "a", "b", "--width", "-4"],
         &["report", "--pairs", "-4"],
     ] {
         let (code, _, err) = tridist(args, "");
@@ -383,21 +385,47 @@ fn a_small_report_writes_parseable_files() {
         .collect();
     assert_eq!(scaling.len(), 2, "{mesh}");
     assert!(scaling.iter().all(|(two, apart)| ratio(two) && ratio(apart)), "{scaling:?}");
-    // tree widths: 2, 4 and 8 per precision, every time positive
-    let widths = mesh.split("## Tree width").nth(1).expect("the tree-width section");
-    for p in ["f32", "f64"] {
-        let rows: Vec<Vec<&str>> = widths
-            .lines()
-            .skip_while(|l| !l.starts_with(&format!("| {p} width")))
-            .skip(2)
-            .take_while(|l| l.starts_with("| "))
-            .map(|l| l.split('|').map(str::trim).collect())
-            .collect();
-        assert_eq!(rows.iter().map(|c| c[1]).collect::<Vec<_>>(), ["2", "4", "8"], "{widths}");
-        for c in &rows {
-            // build, distance and near-contact distance take time; the others may round to 0
-            assert!([c[3], c[4], c[7]].iter().all(|x| x.parse::<f64>().unwrap() > 0.0), "{c:?}");
-            assert!(c[5..9].iter().all(|x| x.parse::<f64>().unwrap() >= 0.0), "{c:?}");
+    // tree widths 2, 4 and 8, leaf sizes 2, 4, 6 and 8, per precision: every time positive
+    // where it must be, each ratio the default's time over the row's (as printed, within
+    // the cells' rounding)
+    for (section, label, want) in [
+        ("## Tree width", "width", &["2", "4", "8"][..]),
+        ("## Leaf size", "leaf", &["2", "4", "6", "8"][..]),
+    ] {
+        let text = mesh.split(section).nth(1).unwrap_or_else(|| panic!("no {section} in {mesh}"));
+        for p in ["f32", "f64"] {
+            let rows: Vec<Vec<&str>> = text
+                .lines()
+                .skip_while(|l| !l.starts_with(&format!("| {p} {label}")))
+                .skip(2)
+                .take_while(|l| l.starts_with("| "))
+                .map(|l| l.split('|').map(str::trim).collect())
+                .collect();
+            assert_eq!(rows.iter().map(|c| c[1]).collect::<Vec<_>>(), want, "{text}");
+            let num = |x: &str| x.trim_end_matches('x').parse::<f64>().unwrap();
+            let def = rows.iter().find(|c| c[1] == "4").unwrap();
+            for c in &rows {
+                // build, distance and the near-contact distance and contacts take time; the
+                // others may round to 0
+                assert!([c[3], c[4], c[7], c[9]].iter().all(|x| num(x) > 0.0), "{c:?}");
+                assert!(c[5..10].iter().all(|x| num(x) >= 0.0), "{c:?}");
+                // (times printed to 0.001 ms, ratios to 0.01)
+                for (r, t) in [(10, 3), (11, 4), (12, 7), (13, 9)] {
+                    let (lo, hi) = (
+                        (num(def[t]) - 5e-4) / (num(c[t]) + 5e-4),
+                        (num(def[t]) + 5e-4) / (num(c[t]) - 5e-4),
+                    );
+                    let got = num(c[r]);
+                    assert!(
+                        lo - 0.005 <= got && got <= hi + 0.005,
+                        "{label} {}: {got} outside [{lo}, {hi}]",
+                        c[1]
+                    );
+                }
+                if c[1] == "4" {
+                    assert!(c[10..14].iter().all(|x| *x == "1.00x"), "{c:?}");
+                }
+            }
         }
     }
     // builds, per precision: both timed, tridist's share of parry3d's time as stated
@@ -523,6 +551,33 @@ fn mesh_subcommand_answers_and_rejects_bad_input() {
         // sqrt(4.5)); the first's face x = 0 is 3 away: 12 pairs
         assert_eq!(number_after(&out, "contacts within 2.5: "), 12.0, "{out}");
         assert!(out.contains("closest point of the second mesh: 4 0 0 at 1 "), "{out}");
+    }
+    // every tree shape gives the same answers; the trees' node counts say the shape was used
+    // (4 triangles: one leaf of up to 8 or 4, or a binary tree of 7 nodes for leaves of 1)
+    let args = ["mesh", a, a, "--pose-b", "3,0,0", "--margin", "2.5", "--point", "5,0,0"];
+    let (_, plain, _) = tridist(&args, "");
+    for (shape, nodes) in [(["--width", "2", "--leaf", "1"], 7), (["--width", "8", "--leaf", "8"], 1)] {
+        let (code, out, err) = tridist(&[&args[..], &shape[..]].concat(), "");
+        assert_eq!(code, 0, "{shape:?}: {err}");
+        let head = format!("meshes: 4 triangles ({nodes} nodes), 4 triangles ({nodes} nodes; trees of width {}, leaves of {});", shape[1], shape[3]);
+        assert!(out.starts_with(&head), "{shape:?}: {out}");
+        // the same lines after the first, bar the times
+        let answers = |o: &str| -> Vec<String> {
+            o.lines().skip(1).filter(|l| !l.contains(" ms")).map(String::from).collect()
+        };
+        assert_eq!(answers(&out), answers(&plain), "{shape:?}");
+        assert_eq!(number_after(&out, "contacts within 2.5: "), 12.0, "{out}");
+    }
+    for (flag, bad, says) in [
+        ("--leaf", "0", "1 to 8 triangles"),
+        ("--leaf", "9", "1 to 8 triangles"),
+        ("--leaf", "x", "invalid digit"),
+        ("--width", "1", "2 to 8 children"),
+        ("--width", "-2", "invalid digit"),
+    ] {
+        let (code, out, err) = tridist(&["mesh", a, a, flag, bad], "");
+        assert_eq!(code, 2, "{flag} {bad}: {err}");
+        assert!(out.is_empty() && err.contains(flag) && err.contains(says), "{flag} {bad}: {out}{err}");
     }
     // --max-contacts keeps the closest: the three pairs at distance 2 of the 12, said as a floor
     let (code, out, err) =

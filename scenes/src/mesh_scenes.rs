@@ -4,7 +4,7 @@
 
 use crate::rng::Rng;
 use rug::Rational;
-use tridist::{Engine, Isa, Mesh, Pose, Real};
+use tridist::{Engine, Isa, Mesh, Pose, Real, TreeShape};
 use tridist_oracle as oracle;
 
 /// The mesh scene families.
@@ -20,8 +20,24 @@ pub const FAMILIES: &[&str] = &[
 ];
 
 /// The tree widths the differential tests and the fuzz target run (every variant on
-/// [`tridist::DEFAULT_WIDTH`], the best one on the others).
+/// [`tridist::DEFAULT_WIDTH`], the best one on the others), and the report's "Tree width"
+/// table compares.
 pub const TREE_WIDTHS: [usize; 3] = [2, 4, 8];
+
+/// The leaf sizes the differential tests and the fuzz target run besides
+/// [`tridist::DEFAULT_LEAF`] (the best variant, at the default width): the smallest and the
+/// largest a tree may have.
+pub const TEST_LEAVES: [usize; 2] = [1, tridist::MAX_LEAF];
+
+/// The tree shapes the differential tests and the fuzz target run: the default, then
+/// every other width of [`TREE_WIDTHS`] and every leaf size of [`TEST_LEAVES`] (each
+/// changing one of the two).
+pub fn test_shapes() -> Vec<TreeShape> {
+    let d = TreeShape::default();
+    let widths = TREE_WIDTHS.into_iter().filter(|&w| w != d.width).map(|width| TreeShape { width, ..d });
+    let leaves = TEST_LEAVES.into_iter().map(|leaf| TreeShape { leaf, ..d });
+    std::iter::once(d).chain(widths).chain(leaves).collect()
+}
 
 /// An indexed mesh in f64.
 #[derive(Clone, Debug)]
@@ -35,13 +51,13 @@ pub struct SceneMesh {
 impl SceneMesh {
     /// The mesh in precision `T` (vertices rounded).
     pub fn mesh<T: Real>(&self) -> tridist::Mesh<T> {
-        self.mesh_width(tridist::DEFAULT_WIDTH)
+        self.mesh_shaped(TreeShape::default())
     }
 
-    /// [`SceneMesh::mesh`] with a tree of `width` ([`tridist::Mesh::with_width`]).
-    pub fn mesh_width<T: Real>(&self, width: usize) -> tridist::Mesh<T> {
+    /// [`SceneMesh::mesh`] with a tree of `shape` ([`tridist::Mesh::with_shape`]).
+    pub fn mesh_shaped<T: Real>(&self, shape: TreeShape) -> tridist::Mesh<T> {
         let v = self.vertices.iter().map(|p| p.map(T::from_f64)).collect();
-        tridist::Mesh::with_width(v, self.triangles.clone(), width).expect("generated meshes are valid")
+        tridist::Mesh::with_shape(v, self.triangles.clone(), shape).expect("generated meshes are valid")
     }
 }
 
@@ -473,22 +489,28 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         ensure!(v <= bound, "{tag}: {what} E = {v} (bound {bound})");
         Ok(())
     };
-    // every variant on the default tree; the best variant also on the other widths (the
-    // answers must not depend on the width)
+    // every variant on the default tree; the best variant also on the other shapes (the
+    // answers must not depend on the tree)
     let isas: Vec<Isa> = Isa::ALL.into_iter().filter(|i| i.is_available()).collect();
     let best = Engine::auto().isa();
     let runs = isas
         .iter()
-        .map(|&i| (i, tridist::DEFAULT_WIDTH))
-        .chain(TREE_WIDTHS.into_iter().filter(|&w| w != tridist::DEFAULT_WIDTH).map(|w| (best, w)));
-    for (isa, width) in runs {
+        .map(|&i| (i, TreeShape::default()))
+        .chain(test_shapes().into_iter().skip(1).map(|shape| (best, shape)));
+    for (isa, shape) in runs {
         let e = Engine::new(isa).expect("available");
-        let (ma, mb) = if width == tridist::DEFAULT_WIDTH {
+        let (ma, mb) = if shape == TreeShape::default() {
             (ma.clone(), mb.clone())
         } else {
-            (s.a.mesh_width::<T>(width), s.b.mesh_width::<T>(width))
+            (s.a.mesh_shaped::<T>(shape), s.b.mesh_shaped::<T>(shape))
         };
-        let tag = format!("{fam}/{idx} {} {} width {width}", T::PRECISION.name(), e.isa());
+        let tag = format!(
+            "{fam}/{idx} {} {} width {} leaf {}",
+            T::PRECISION.name(),
+            e.isa(),
+            shape.width,
+            shape.leaf
+        );
 
         // 1. distance
         let r = e.mesh_distance(&ma, &pa, &mb, &pb).map_err(|e| format!("{tag}: {e}"))?.expect("non-empty");

@@ -82,22 +82,35 @@ fn sheared_poses_lose_no_pair() {
 }
 
 /// Contacts on two threads (the traversal split into pieces walked in parallel) are exactly
-/// the single-threaded contacts, and every tree width gives the same answers (distance,
-/// intersection verdict, contacts), on the report's interpenetrating poses of Armadillo and
-/// fandisk (thousands of contacts) and on a separated one (none).
+/// the single-threaded contacts, and every tree shape (width, leaf size) gives the same
+/// answers (distance, intersection verdict, contacts), on the report's interpenetrating
+/// poses of Armadillo and fandisk (thousands of contacts) and on a separated one (none).
 #[test]
-fn threaded_contacts_and_tree_widths_give_the_same_answers() {
+fn threaded_contacts_and_tree_shapes_give_the_same_answers() {
+    use tridist::TreeShape;
     use tridist_scenes::protocol::{carried_normalised, trajectory_pose};
     fn run<T: tridist::Real>() {
-        let load = |n: &str, w: usize| {
+        let load = |n: &str, s: TreeShape| {
             let m = carried_normalised(n).unwrap();
             let v = m.vertices.iter().map(|p| p.map(T::from_f64)).collect();
-            tridist::Mesh::with_width(v, m.triangles, w).unwrap()
+            tridist::Mesh::with_shape(v, m.triangles, s).unwrap()
         };
-        let trees: Vec<_> = tridist_scenes::mesh_scenes::TREE_WIDTHS
-            .iter()
-            .map(|&w| (w, load("armadillo.off", w), load("fandisk_large.off", w)))
+        // the default first
+        let trees: Vec<_> = tridist_scenes::mesh_scenes::test_shapes()
+            .into_iter()
+            .map(|s| (s, load("armadillo.off", s), load("fandisk_large.off", s)))
             .collect();
+        let (def, nodes) = (trees[0].0, trees[0].1.node_count());
+        assert_eq!(def, TreeShape::default());
+        for (s, a, _) in &trees {
+            assert_eq!(a.shape(), *s);
+            // the same splits: a wider tree or larger leaves have fewer nodes
+            if s.width > def.width || s.leaf > def.leaf {
+                assert!(a.node_count() < nodes, "{s:?}: {} nodes, not fewer than {nodes}", a.node_count());
+            } else if s != &def {
+                assert!(a.node_count() > nodes, "{s:?}: {} nodes, not more than {nodes}", a.node_count());
+            }
+        }
         let e = tridist::Engine::auto();
         let id = tridist::Pose::<T>::identity();
         for k in [0, 4, 5, 7] {
@@ -107,7 +120,7 @@ fn threaded_contacts_and_tree_widths_give_the_same_answers() {
                 translation: p.translation.map(T::from_f64),
             };
             let m = T::from_f64(0.02);
-            let (_, a, b) = trees.iter().find(|t| t.0 == tridist::DEFAULT_WIDTH).unwrap();
+            let (_, a, b) = &trees[0];
             let one = e.mesh_contacts(a, &id, b, &p, m, None).unwrap();
             let two = e.threads(2).mesh_contacts(a, &id, b, &p, m, None).unwrap();
             assert_eq!(one.len(), two.len(), "pose {k}");
@@ -119,15 +132,11 @@ fn threaded_contacts_and_tree_widths_give_the_same_answers() {
             let d = e.mesh_distance(a, &id, b, &p).unwrap().unwrap().sqdist;
             let hit = e.mesh_intersect(a, &id, b, &p).unwrap().is_some();
             assert_eq!(hit, k != 0, "pose {k}");
-            for (w, a, b) in trees.iter().filter(|t| t.0 != tridist::DEFAULT_WIDTH) {
-                assert_eq!(a.width(), *w);
-                if *w > 2 {
-                    assert!(a.node_count() < trees[0].1.node_count(), "width {w}: fewer nodes than binary");
-                }
+            for (w, a, b) in &trees[1..] {
                 let c = e.mesh_contacts(a, &id, b, &p, m, None).unwrap();
-                assert!(c == one, "pose {k}, width {w}: contacts differ");
-                assert_eq!(e.mesh_distance(a, &id, b, &p).unwrap().unwrap().sqdist, d, "pose {k}, width {w}");
-                assert_eq!(e.mesh_intersect(a, &id, b, &p).unwrap().is_some(), hit, "pose {k}, width {w}");
+                assert!(c == one, "pose {k}, {w:?}: contacts differ");
+                assert_eq!(e.mesh_distance(a, &id, b, &p).unwrap().unwrap().sqdist, d, "pose {k}, {w:?}");
+                assert_eq!(e.mesh_intersect(a, &id, b, &p).unwrap().is_some(), hit, "pose {k}, {w:?}");
             }
         }
     }
