@@ -174,7 +174,12 @@ pub const DEFAULT_WIDTH: usize = 4;
 
 /// The shape of a mesh's tree ([`Mesh::with_shape`]): how many children a node and how many
 /// triangles a leaf holds at most. The splits are the same at every shape (a larger leaf
-/// stops them earlier), and so are the queries' answers: only the time differs.
+/// stops them earlier), and so are the answers, as far as the queries define them: the
+/// contact set (each pair decided by the kernels alone), the intersection verdict and the
+/// closest point's distance are the same for every tree; the distance is within the
+/// search's slack ([`MESH_DISTANCE_SLACK`]) of the same smallest kernel answer, and where
+/// pairs tie within that slack another tree may answer another of them. Only the time is
+/// meant to differ (the differential tests run leaves of 1 and 8 and widths of 2 and 8).
 ///
 /// The default (4 children, 4 triangles) is the fastest distance query on the report's
 /// meshes. Larger leaves trade the node tests a query makes for triangle pairs it hands the
@@ -325,8 +330,8 @@ impl<T: Real> Mesh<T> {
 
     /// [`Mesh::new`] with a tree of `width` children per node (2 to [`MAX_WIDTH`]): the same
     /// binary splits collapsed, so every width has the same tree quality; the answers
-    /// are the same at every width (only the time differs; the module's documentation says
-    /// which width is the default, and why).
+    /// are the same at every width as [`TreeShape`] says (only the time is meant to differ;
+    /// the module's documentation says which width is the default, and why).
     ///
     /// # Errors
     /// As [`Mesh::new`], and [`Error::InvalidTreeWidth`] for a width outside `2..=8`.
@@ -339,7 +344,8 @@ impl<T: Real> Mesh<T> {
     }
 
     /// [`Mesh::new`] with a tree of the given shape ([`TreeShape`]: children per node and
-    /// triangles per leaf). Every shape gives the same answers; the time differs.
+    /// triangles per leaf). Every shape gives the same answers, as [`TreeShape`] says; the
+    /// time differs.
     ///
     /// # Errors
     /// As [`Mesh::new`], [`Error::InvalidTreeWidth`] for a width outside `2..=8`, and
