@@ -44,8 +44,9 @@ pub struct MeshArgs {
     /// `TRIDIST_ISA` names).
     #[arg(long, default_value = "auto", value_parser = parse_variant)]
     pub variant: Variant,
-    /// Most children of a tree node, 2 to 8 (`Mesh::with_shape`); the answers are the same
-    /// for every tree, only the time differs.
+    /// Most children of a tree node, 2 to 8 (`Mesh::with_shape`). Contacts, the verdict and
+    /// the closest point are the same for every tree, the distance within its documented
+    /// slack (`TreeShape`); the time differs.
     #[arg(long, default_value_t = tridist::DEFAULT_WIDTH, value_parser = tree_width, allow_negative_numbers = true)]
     pub width: usize,
     /// Most triangles of a tree leaf, 1 to 8: larger leaves build faster and suit contact
