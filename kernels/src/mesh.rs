@@ -202,6 +202,21 @@ impl Default for TreeShape {
     }
 }
 
+impl TreeShape {
+    /// `Ok` for a shape [`Mesh::with_shape`] builds: [`Error::InvalidTreeWidth`] for a width
+    /// outside `2..=8` (named first), [`Error::InvalidLeafSize`] for a leaf size outside
+    /// `1..=8`.
+    pub fn check(&self) -> Result<(), Error> {
+        if !(2..=MAX_WIDTH).contains(&self.width) {
+            return Err(Error::InvalidTreeWidth(self.width));
+        }
+        if !(1..=MAX_LEAF).contains(&self.leaf) {
+            return Err(Error::InvalidLeafSize(self.leaf));
+        }
+        Ok(())
+    }
+}
+
 /// Triangle pairs gathered before the kernels run on them.
 const FLUSH: usize = 64;
 
@@ -248,10 +263,8 @@ pub struct Mesh<T> {
     /// The triangles' vertex numbers in leaf order (`triangles[order[k]]`), read in sequence
     /// when a query moves a leaf's triangles.
     leaf_tris: Vec<[u32; 3]>,
-    /// Most children of a node.
-    width: usize,
-    /// Most triangles of a leaf.
-    leaf: usize,
+    /// Most children of a node and most triangles of a leaf.
+    shape: TreeShape,
 }
 
 /// A node: a box in the mesh frame (f64) and either `kids` children (`count == 0`: at
@@ -348,20 +361,14 @@ impl<T: Real> Mesh<T> {
     /// time differs.
     ///
     /// # Errors
-    /// As [`Mesh::new`], [`Error::InvalidTreeWidth`] for a width outside `2..=8`, and
-    /// [`Error::InvalidLeafSize`] for a leaf size outside `1..=8`.
+    /// As [`Mesh::new`], and those of [`TreeShape::check`]: [`Error::InvalidTreeWidth`] for
+    /// a width outside `2..=8`, [`Error::InvalidLeafSize`] for a leaf size outside `1..=8`.
     pub fn with_shape(
         vertices: Vec<Point<T>>,
         triangles: Vec<[u32; 3]>,
         shape: TreeShape,
     ) -> Result<Mesh<T>, Error> {
-        let TreeShape { width, leaf } = shape;
-        if !(2..=MAX_WIDTH).contains(&width) {
-            return Err(Error::InvalidTreeWidth(width));
-        }
-        if !(1..=MAX_LEAF).contains(&leaf) {
-            return Err(Error::InvalidLeafSize(leaf));
-        }
+        shape.check()?;
         if let Some(v) = vertices.iter().position(|v| v.iter().any(|x| !x.is_finite())) {
             return Err(Error::NonFiniteVertex { vertex: v });
         }
@@ -384,8 +391,7 @@ impl<T: Real> Mesh<T> {
             bounds_stride: 0,
             order: Vec::new(),
             leaf_tris: Vec::new(),
-            width,
-            leaf,
+            shape,
         };
         m.build();
         Ok(m)
@@ -418,13 +424,13 @@ impl<T: Real> Mesh<T> {
 
     /// Most children of a tree node ([`Mesh::with_width`]).
     pub fn width(&self) -> usize {
-        self.width
+        self.shape.width
     }
 
     /// The tree's shape: most children of a node and most triangles of a leaf
     /// ([`Mesh::with_shape`]).
     pub fn shape(&self) -> TreeShape {
-        TreeShape { width: self.width, leaf: self.leaf }
+        self.shape
     }
 
     /// Triangle `i` in the mesh's own frame.
@@ -468,7 +474,7 @@ impl<T: Real> Mesh<T> {
         bins.push(Bin { lo: [0.0; 3], hi: [0.0; 3], s: 0, e: n, kids: None });
         let mut todo = vec![(0usize, 0usize, n)];
         while let Some((id, s, e)) = todo.pop() {
-            if e - s <= self.leaf {
+            if e - s <= self.shape.leaf {
                 continue;
             }
             let (mut clo, mut chi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
@@ -528,7 +534,7 @@ impl<T: Real> Mesh<T> {
             };
             set.clear();
             set.extend(k);
-            while set.len() < self.width {
+            while set.len() < self.shape.width {
                 let open = (0..set.len())
                     .filter(|&i| bins[set[i]].kids.is_some())
                     .max_by(|&i, &j| area(&bins[set[i]]).total_cmp(&area(&bins[set[j]])));
@@ -1179,7 +1185,7 @@ impl<'m, T: Real> Side<'m, T> {
         mv.fits(mesh)?;
         let slots = Slots::take(mesh.nodes.len());
         // a multiple of every f64 lane count, at least the width
-        let stride = mesh.width.next_multiple_of(4);
+        let stride = mesh.shape.width.next_multiple_of(4);
         Ok(Side { mesh, pose, mv, slots, stride, tris: Vec::new(), boxes: Vec::new() })
     }
 
@@ -2377,7 +2383,7 @@ mod tests {
         use super::*;
         let isas: Vec<crate::Isa> = crate::Isa::ALL.into_iter().filter(|i| i.is_available()).collect();
         let mv = Moved::of(pose);
-        let stride = m.width.next_multiple_of(4);
+        let stride = m.shape.width.next_multiple_of(4);
         for p in (0..m.nodes.len()).filter(|&p| m.nodes[p].count == 0) {
             let first = m.nodes[p].first as usize;
             let mut want = vec![0.0; ROWS * stride];
@@ -2490,6 +2496,9 @@ mod tests {
     fn trees_have_their_shape() {
         use super::{tri_box, Mesh, TreeShape};
         let mut rnd = uniform(0x9e37_79b9_7f4a_7c15);
+        let inside = |outer: ([f64; 3], [f64; 3]), inner: ([f64; 3], [f64; 3])| {
+            (0..3).all(|k| outer.0[k] <= inner.0[k] && inner.1[k] <= outer.1[k])
+        };
         for n in [1u32, 2, 3, 9, 17, 200] {
             let (v, t) = soup(&mut rnd, n, 10.0, 0.0);
             let mut last = usize::MAX;
@@ -2497,9 +2506,6 @@ mod tests {
                 for width in [2, 3, 4, 8] {
                     let m = Mesh::with_shape(v.clone(), t.clone(), TreeShape { width, leaf }).expect("mesh");
                     let mut seen = vec![0u32; n as usize];
-                    let inside = |outer: ([f64; 3], [f64; 3]), inner: ([f64; 3], [f64; 3])| {
-                        (0..3).all(|k| outer.0[k] <= inner.0[k] && inner.1[k] <= outer.1[k])
-                    };
                     for node in &m.nodes {
                         if node.count > 0 {
                             assert!(

@@ -31,6 +31,10 @@ fn bad_meshes_and_poses_are_errors() {
         assert_eq!(shaped(4, n).unwrap_err(), Error::InvalidLeafSize(n));
     }
     assert_eq!(shaped(1, 0).unwrap_err(), Error::InvalidTreeWidth(1));
+    // the same check, without a mesh (what the CLI validates its flags with)
+    assert_eq!(TreeShape { width: 1, leaf: 0 }.check(), Err(Error::InvalidTreeWidth(1)));
+    assert_eq!(TreeShape { width: 8, leaf: 9 }.check(), Err(Error::InvalidLeafSize(9)));
+    assert_eq!(TreeShape::default().check(), Ok(()));
     assert!(Error::InvalidLeafSize(9).to_string().contains("1 to 8"));
     for n in [1, tridist::MAX_LEAF] {
         assert_eq!(shaped(3, n).unwrap().shape(), TreeShape { width: 3, leaf: n });

@@ -55,21 +55,16 @@ pub struct MeshArgs {
     pub leaf: usize,
 }
 
-/// A tree width the library accepts (its own check, so the message is the library's).
+/// A tree width the library accepts ([`TreeShape::check`], so the message is the library's).
 fn tree_width(s: &str) -> Result<usize, String> {
     let w: usize = s.parse().map_err(|e| format!("{e}"))?;
-    shape_ok(TreeShape { width: w, ..TreeShape::default() }).map(|()| w)
+    TreeShape { width: w, ..TreeShape::default() }.check().map(|()| w).map_err(|e| e.to_string())
 }
 
-/// A leaf size the library accepts.
+/// A leaf size the library accepts ([`TreeShape::check`]).
 fn leaf_size(s: &str) -> Result<usize, String> {
     let n: usize = s.parse().map_err(|e| format!("{e}"))?;
-    shape_ok(TreeShape { leaf: n, ..TreeShape::default() }).map(|()| n)
-}
-
-/// Whether the library builds a tree of `shape` (on one triangle).
-fn shape_ok(shape: TreeShape) -> Result<(), String> {
-    Mesh::<f64>::with_shape(vec![[0.0; 3]; 3], vec![[0, 1, 2]], shape).map(|_| ()).map_err(|e| e.to_string())
+    TreeShape { leaf: n, ..TreeShape::default() }.check().map(|()| n).map_err(|e| e.to_string())
 }
 
 fn parse_list(s: &str) -> Result<Vec<f64>, String> {

@@ -191,8 +191,12 @@ The same binary splits (binned surface-area splits, see the `mesh` module's docs
         t,
         "## Leaf size
 
-The same splits stopped at leaves of at most 2, 4, 6 and 8 triangles (`Mesh::with_shape`, `TreeShape {{ width, leaf }}`; the default is {} at width {}), measured as the table above (the leaf sizes alternated pose by pose, the same answers checked). A larger leaf means fewer nodes to build and to test, and more triangle pairs handed to the kernels per leaf pair: the contact query, which visits every node pair within its margin, and the build gain; the distance and intersection queries, which stop early, answer more pairs than they need.
+The same splits stopped at leaves of at most {} triangles (`Mesh::with_shape`, `TreeShape {{ width, leaf }}`; the default is {} at width {}), measured as the table above (the leaf sizes alternated pose by pose, the same answers checked). A larger leaf means fewer nodes to build and to test, and more triangle pairs handed to the kernels per leaf pair: the contact query, which visits every node pair within its margin, and the build gain; the distance and intersection queries, which stop early, answer more pairs than they need.
 ",
+        {
+            let n = REPORT_LEAVES.map(|n| n.to_string());
+            format!("{} and {}", n[..n.len() - 1].join(", "), n[n.len() - 1])
+        },
         d.leaf,
         d.width
     );
