@@ -170,6 +170,13 @@ fn meshes(c: &mut Criterion) {
                 poses.iter().filter(|p| e.mesh_intersect(&a, &id, &b, p).expect("finite").is_some()).count()
             })
         });
+        // the clearance check at the contacts' margin
+        g.bench_function("within_0.02", |bch| {
+            bch.iter(|| {
+                let within = |p| e.mesh_within_margin(&a, &id, &b, p, margin).expect("finite");
+                poses.iter().filter(|p| within(p).is_some()).count()
+            })
+        });
         g.finish();
     }
     run::<f32>(c, "f32");

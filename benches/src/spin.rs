@@ -3,13 +3,13 @@
 //! (`full`: without the quick stage, `Engine::quick_stage(false)`),
 //! or a mesh query on the mesh report's scene (Armadillo fixed, fandisk at trajectory pose
 //! `k` of 12, or at near-contact placement `n<k>` of MESH.md, 0.001 apart):
-//! `spin mesh contacts|distance|intersect|build <k>|n<k> f32|f64 <threads> <secs> [leaf]`.
+//! `spin mesh contacts|distance|intersect|within|build <k>|n<k> f32|f64 <threads> <secs> [leaf]`.
 use tridist::{Engine, Intersection, Isa, Query};
 use tridist_scenes::workload::Workload;
 use tridist_scenes::{families, Family};
 
 const USAGE: &str = "usage: spin <query> <family|arm_nearby> f32|f64 <variant|fcl> <secs> [pairs [threads [sqdist|points [quick|full]]]]
-       spin mesh contacts|distance|intersect|build <pose 0-11 | near placement n0-n11> f32|f64 <threads> <secs> [leaf size]";
+       spin mesh contacts|distance|intersect|within|build <pose 0-11 | near placement n0-n11> f32|f64 <threads> <secs> [leaf size]";
 
 /// Bad arguments: the reason and the usage on stderr, exit status 2.
 fn usage(why: &str) -> ! {
@@ -183,6 +183,9 @@ fn mesh<T: tridist::Real>(a: &[String]) {
             "contacts" => e.mesh_contacts(&ma, &id, &mb, &pose, margin, None).expect("contacts").len(),
             "distance" => e.mesh_distance(&ma, &id, &mb, &pose).expect("distance").map_or(0, |d| d.tri_a),
             "intersect" => e.mesh_intersect(&ma, &id, &mb, &pose).expect("intersect").map_or(0, |h| h.0),
+            "within" => {
+                e.mesh_within_margin(&ma, &id, &mb, &pose, margin).expect("within").map_or(0, |h| h.0)
+            }
             "build" => tm(&arm).len() + tm(&fan).len(),
             _ => usage("unknown mesh query"),
         };

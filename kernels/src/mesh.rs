@@ -17,7 +17,9 @@
 //! triangles (and so within the tolerance plus the slack of their exact minimum), the contact
 //! set holds every pair within the margin (decided by the kernels as
 //! [`Engine::within_margin_triangle_triangle`] does), and intersection is the kernels' verdict
-//! on some pair or `None` when every pair is disjoint. The three queries share one traversal.
+//! on some pair or `None` when every pair is disjoint. The clearance check
+//! ([`Engine::mesh_within_margin`]) decides as the contact set does and stops at its first
+//! pair within the margin. These queries share one traversal.
 //! The differential tests (`scenes/tests/mesh.rs`) check this against an exact brute force over all pairs.
 //!
 //! # The tree
@@ -175,8 +177,9 @@ pub const DEFAULT_WIDTH: usize = 4;
 /// The shape of a mesh's tree ([`Mesh::with_shape`]): how many children a node and how many
 /// triangles a leaf holds at most. The splits are the same at every shape (a larger leaf
 /// stops them earlier), and so are the answers, as far as the queries define them: the
-/// contact set (each pair decided by the kernels alone), the intersection verdict and the
-/// closest point's distance are the same for every tree; the distance is within the
+/// contact set (each pair decided by the kernels alone), the intersection verdict, the
+/// clearance check's yes or no and the closest point's distance are the same for every tree
+/// (the pair an intersection or a clearance check names may differ: the first found); the distance is within the
 /// search's slack ([`MESH_DISTANCE_SLACK`]) of the same smallest kernel answer, and where
 /// pairs tie within that slack another tree may answer another of them. Only the time is
 /// meant to differ (the differential tests run leaves of 1 and 8 and widths of 2 and 8).
@@ -244,6 +247,8 @@ const FLUSH: usize = 64;
 /// assert_eq!(e.mesh_intersect(&a, &here, &b, &there)?, None);      // first certified hit
 /// let contacts = e.mesh_contacts(&a, &here, &b, &there, 2.5, None)?; // pairs within a margin
 /// assert_eq!(contacts.len(), 12);
+/// assert!(e.mesh_within_margin(&a, &here, &b, &there, 2.5)?.is_some()); // clearance check
+/// assert_eq!(e.mesh_within_margin(&a, &here, &b, &there, 1.5)?, None);
 /// let p = e.mesh_closest_point(&b, &there, [5.0, 0.0, 0.0])?.unwrap(); // point to mesh
 /// assert_eq!(p.sqdist, 1.0);
 /// # Ok::<(), tridist::Error>(())
@@ -1809,48 +1814,72 @@ impl<T: Real> Search<T> for Contacts<T> {
     }
 }
 
-/// [`Engine::mesh_intersect`]: stops at the first batch with an intersecting pair.
-struct FirstHit {
+/// [`Engine::mesh_intersect`] and [`Engine::mesh_within_margin`]: stops at the first batch
+/// with a hit, an intersecting pair or (with a margin) a pair within the margin.
+struct FirstHit<T> {
     tol: crate::Tolerance,
+    /// Within-margin: the margin, decided as [`Contacts`] decides it; intersection: `None`.
+    margin: Option<f64>,
     hit: Option<(usize, usize)>,
     v: Vec<Intersection>,
+    d: Vec<T>,
     /// [`Search::overlap_first`] (always, but for the test that shows the walk without it).
     overlap_first: bool,
     /// Triangle pairs answered (for the tests).
     answered: usize,
 }
 
-impl FirstHit {
-    fn new(tol: crate::Tolerance) -> Self {
-        FirstHit { tol, hit: None, v: Vec::new(), overlap_first: true, answered: 0 }
+impl<T: Real> FirstHit<T> {
+    fn new(tol: crate::Tolerance, margin: Option<f64>) -> Self {
+        FirstHit { tol, margin, hit: None, v: Vec::new(), d: Vec::new(), overlap_first: true, answered: 0 }
+    }
+
+    fn keep(&mut self, (i, j): (u32, u32)) {
+        let p = (i as usize, j as usize);
+        self.hit = Some(self.hit.map_or(p, |h| h.min(p)));
     }
 }
 
-impl<T: Real> Search<T> for FirstHit {
+impl<T: Real> Search<T> for FirstHit<T> {
     fn limit(&self) -> Limit {
-        // "Intersecting" is said of pairs within the tolerance of touching: boxes that far
-        // apart are kept.
-        reach::<T>(&self.tol, 0.0)
+        // "Intersecting" is said of pairs within the tolerance of touching, "within the
+        // margin" of pairs the kernels answer within it: boxes that much farther apart are kept.
+        reach::<T>(&self.tol, self.margin.unwrap_or(0.0))
     }
-    fn eager(&self, _overlap: bool) -> bool {
-        true
+    fn eager(&self, overlap: bool) -> bool {
+        // Within a margin, a search that finds nothing visits every node pair within it (as
+        // the contact query does), so its leaf pairs are batched, except the first one and
+        // those whose boxes overlap, which likely hold a hit.
+        self.margin.is_none() || overlap || self.answered == 0
     }
     fn overlap_first(&self) -> bool {
         self.overlap_first
     }
     fn flush(&mut self, e: &Engine, pend: &Pending<T>) -> Result<bool, Error> {
-        self.v.clear();
-        self.v.resize(pend.ids.len(), Intersection::Invalid);
-        e.intersect_triangle_triangle(&pend.a, &pend.b, &mut self.v)?;
-        self.answered += pend.ids.len();
-        for (r, &(i, j)) in self.v.iter().zip(&pend.ids) {
-            match r {
-                Intersection::Invalid => return Err(Error::NonFiniteCoordinate),
-                Intersection::Intersecting => {
-                    let p = (i as usize, j as usize);
-                    self.hit = Some(self.hit.map_or(p, |h| h.min(p)));
+        let n = pend.ids.len();
+        self.answered += n;
+        if let Some(margin) = self.margin {
+            self.d.clear();
+            self.d.resize(n, T::ZERO);
+            e.run(Query::TriTri, &pend.a, &pend.b, Outputs::new().sqdist(&mut self.d))?;
+            // (the contact query's threshold, in the working precision)
+            let m = T::from_f64(margin);
+            for k in 0..n {
+                check_finite(self.d[k])?;
+                if self.d[k] <= m * m {
+                    self.keep(pend.ids[k]);
                 }
-                Intersection::Disjoint => {}
+            }
+        } else {
+            self.v.clear();
+            self.v.resize(n, Intersection::Invalid);
+            e.intersect_triangle_triangle(&pend.a, &pend.b, &mut self.v)?;
+            for k in 0..n {
+                match self.v[k] {
+                    Intersection::Invalid => return Err(Error::NonFiniteCoordinate),
+                    Intersection::Intersecting => self.keep(pend.ids[k]),
+                    Intersection::Disjoint => {}
+                }
             }
         }
         Ok(self.hit.is_some())
@@ -2090,8 +2119,35 @@ impl Engine {
         b: &Mesh<T>,
         pose_b: &Pose<T>,
     ) -> Result<Option<(usize, usize)>, Error> {
-        let mut s = FirstHit::new(self.current_tolerance());
+        let mut s = FirstHit::new(self.current_tolerance(), None);
         search::<T, _>(self, a, pose_a, b, pose_b, &mut s)?;
+        Ok(s.hit)
+    }
+
+    /// Are two meshes in their poses within `margin` of each other (PQP's tolerance query, a
+    /// clearance check)? `Some((tri_a, tri_b))`: a pair the kernels answer within the margin,
+    /// one of [`Engine::mesh_contacts`]' contacts at that margin (the search stops at the
+    /// first batch that holds one, and reports its smallest pair); `None` exactly when
+    /// [`Engine::mesh_contacts`] finds none. The same decision, so the same guarantees: every
+    /// pair within the margin is seen, and a pair within `c u S` of the margin may go either
+    /// way. Where the meshes come within the margin this stops early, so it is cheaper than a
+    /// distance query compared with the margin (reports/MESH.md times both); where they do
+    /// not, it visits every node pair the contact query visits, and answers their triangle
+    /// pairs' squared distances only. One thread whatever [`Engine::threads`] says.
+    ///
+    /// # Errors
+    /// [`Error::InvalidMargin`], [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].
+    pub fn mesh_within_margin<T: Real>(
+        &self,
+        a: &Mesh<T>,
+        pose_a: &Pose<T>,
+        b: &Mesh<T>,
+        pose_b: &Pose<T>,
+        margin: T,
+    ) -> Result<Option<(usize, usize)>, Error> {
+        let e = self.margin(margin.to_f64())?;
+        let mut s = FirstHit::new(e.current_tolerance(), Some(margin.to_f64()));
+        search::<T, _>(&e, a, pose_a, b, pose_b, &mut s)?;
         Ok(s.hit)
     }
 
@@ -2824,6 +2880,32 @@ mod tests {
         assert!(uncapped > 100 * capped, "{uncapped} against {capped}");
     }
 
+    /// The clearance check stops at its first hit: two parallel walls 0.5 apart, every one of
+    /// their pairs within a margin of 3, are found within it by the first leaf pair's
+    /// triangle pairs, where the contact query answers more than 20,000; the pair it names is
+    /// a contact; below the walls' distance there is none.
+    #[test]
+    fn the_clearance_check_stops_at_its_first_hit() {
+        use super::*;
+        let (a, b) = (wall(16, 1.0), wall(16, 1.0));
+        let (pa, pb) = (Pose::identity(), Pose::translation([0.5f32, 0.0, 0.0]));
+        let e = Engine::auto();
+        let run = |margin: f32| {
+            let mut s = FirstHit::<f32>::new(e.current_tolerance(), Some(margin as f64));
+            search(&e, &a, &pa, &b, &pb, &mut s).expect("search");
+            (s.hit, s.answered)
+        };
+        let (hit, answered) = run(3.0);
+        let (i, j) = hit.expect("within 3");
+        assert!(answered <= DEFAULT_LEAF * DEFAULT_LEAF, "{answered} pairs answered");
+        let all = e.mesh_contacts(&a, &pa, &b, &pb, 3.0, None).expect("contacts");
+        assert!(all.len() > 20_000, "{} contacts", all.len());
+        assert!(all.iter().any(|c| (c.tri_a, c.tri_b) == (i, j)), "({i}, {j}) is not a contact");
+        assert_eq!(e.mesh_within_margin(&a, &pa, &b, &pb, 3.0).expect("within"), Some((i, j)));
+        assert_eq!(run(0.49).0, None);
+        assert_eq!(e.mesh_within_margin(&a, &pa, &b, &pb, 0.49).expect("within"), None);
+    }
+
     /// A UV sphere of radius `r` centred at the origin: `m` rings of `2 m` quads (two triangles
     /// each, the poles' fans degenerate).
     fn sphere<T: crate::Real>(m: u32, r: f64) -> super::Mesh<T> {
@@ -2856,7 +2938,7 @@ mod tests {
         let pb = Pose::from_axis_angle([1.0f32, 2.0, 3.0], 0.5, [1e6, 0.0, 0.5]).unwrap();
         let all = a.len() * b.len();
         let run = |overlap_first: bool| {
-            let mut s = FirstHit::new(e.current_tolerance());
+            let mut s = FirstHit::<f32>::new(e.current_tolerance(), None);
             s.overlap_first = overlap_first;
             search(&e, &a, &pa, &b, &pb, &mut s).expect("search");
             let (i, j) = s.hit.expect("a hit");

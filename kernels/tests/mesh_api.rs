@@ -52,6 +52,10 @@ fn bad_meshes_and_poses_are_errors() {
     assert_eq!(e.mesh_intersect(&a, &id, &b, &bad).unwrap_err(), Error::InvalidPose);
     assert_eq!(e.mesh_contacts(&a, &id, &b, &id, -1.0, None).unwrap_err(), Error::InvalidMargin);
     assert_eq!(e.mesh_contacts(&a, &id, &b, &id, f64::NAN, None).unwrap_err(), Error::InvalidMargin);
+    for m in [-1.0, f64::NAN, f64::INFINITY] {
+        assert_eq!(e.mesh_within_margin(&a, &id, &b, &id, m).unwrap_err(), Error::InvalidMargin);
+    }
+    assert_eq!(e.mesh_within_margin(&a, &bad, &b, &id, 1.0).unwrap_err(), Error::InvalidPose);
     assert_eq!(
         e.mesh_closest_point(&a, &id, [f64::INFINITY, 0.0, 0.0]).unwrap_err(),
         Error::NonFiniteCoordinate
@@ -64,6 +68,10 @@ fn bad_meshes_and_poses_are_errors() {
     let idf = Pose::identity();
     assert_eq!(e.mesh_distance(&huge, &push, &small, &idf).unwrap_err(), Error::NonFiniteCoordinate);
     assert_eq!(e.mesh_intersect(&huge, &push, &small, &idf).unwrap_err(), Error::NonFiniteCoordinate);
+    assert_eq!(
+        e.mesh_within_margin(&huge, &push, &small, &idf, 1.0).unwrap_err(),
+        Error::NonFiniteCoordinate
+    );
     assert!(Error::NonFiniteCoordinate.to_string().contains("NaN or infinite"));
 }
 
@@ -76,6 +84,7 @@ fn empty_meshes_are_infinitely_far_and_touch_nothing() {
     assert_eq!(e.mesh_distance(&empty, &id, &t, &id).unwrap(), None);
     assert_eq!(e.mesh_intersect(&t, &id, &empty, &id).unwrap(), None);
     assert!(e.mesh_contacts(&t, &id, &empty, &id, 1.0, None).unwrap().is_empty());
+    assert_eq!(e.mesh_within_margin(&empty, &id, &t, &id, 1.0).unwrap(), None);
     assert_eq!(e.mesh_closest_point(&empty, &id, [0.0; 3]).unwrap(), None);
 }
 
@@ -101,4 +110,10 @@ fn a_moved_mesh_answers_as_the_mesh_built_there() {
         .mesh_intersect(&a, &Pose::identity(), &b, &Pose::translation([0.25, 0.25, 0.25]))
         .unwrap()
         .is_some());
+    // the clearance check against the distance: within a margin just above it, not just below
+    let d = moved.sqdist.sqrt();
+    let within = |m: f64| e.mesh_within_margin(&a, &Pose::identity(), &b, &pose, m).unwrap();
+    let (i, j) = within(d * 1.001).expect("within a margin above the distance");
+    assert!(tridist::sqdist_triangle_triangle(&a.triangle(i), &far.triangle(j)) <= (d * 1.001).powi(2));
+    assert_eq!(within(d * 0.999), None);
 }

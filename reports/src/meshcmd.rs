@@ -23,7 +23,8 @@ pub struct MeshArgs {
     /// Pose of the second mesh, as --pose-a.
     #[arg(long, value_parser = parse_pose, default_value = "0,0,0", allow_hyphen_values = true)]
     pub pose_b: [f64; 7],
-    /// Contacts: report the triangle pairs within this distance (finite, non-negative).
+    /// Contacts: report whether the meshes come within this distance (finite, non-negative;
+    /// `mesh_within_margin`, which stops at its first hit) and the triangle pairs within it.
     #[arg(long, value_parser = crate::non_negative, allow_hyphen_values = true)]
     pub margin: Option<f64>,
     /// With --margin: print at most this many contacts (the closest first).
@@ -149,6 +150,11 @@ fn squared<T: Real>(sqdist: T) -> String {
     }
 }
 
+/// Milliseconds since `t0`.
+fn ms_since(t0: Instant) -> f64 {
+    t0.elapsed().as_secs_f64() * 1e3
+}
+
 pub fn cmd_mesh(a: &MeshArgs) -> Result<ExitCode, Fail> {
     match a.precision {
         Prec::F32 => run::<f32>(a),
@@ -202,8 +208,13 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
         if !T::from_f64(m).is_finite() {
             return Err(Fail(format!("--margin {} is beyond the range of {}", num(m), T::PRECISION.name())));
         }
+        match e.mesh_within_margin(&ma, &pa, &mb, &pb, T::from_f64(m))? {
+            Some((i, j)) => outln!("within {}: yes (triangles {i} {j}; {:.3} ms)", num(m), ms_since(t0)),
+            None => outln!("within {}: no ({:.3} ms)", num(m), ms_since(t0)),
+        }
+        let t0 = Instant::now();
         let c = e.mesh_contacts(&ma, &pa, &mb, &pb, T::from_f64(m), Some(a.max_contacts))?;
-        let ms = t0.elapsed().as_secs_f64() * 1e3;
+        let ms = ms_since(t0);
         if c.len() >= a.max_contacts {
             outln!("contacts within {}: {} or more (stopped at --max-contacts; {ms:.3} ms)", num(m), c.len());
         } else {

@@ -24,6 +24,9 @@ struct Row {
     t_c: f64,
     /// The contact query on two threads.
     t_c2: f64,
+    /// The clearance check within the contacts' margin (`mesh_within_margin`) and its time.
+    within: bool,
+    t_w: f64,
     parry_d: f64,
     parry_t_d: f64,
     parry_hit: Option<bool>,
@@ -340,6 +343,11 @@ fn rows<T: Peer + Real>(
             }
         }
         let (t_c, t_c2) = (crate::common::median(t1), crate::common::median(t2));
+        let mut within = false;
+        let t_w = median_time(
+            || within = matches!(e.mesh_within_margin(&ma, &id, &mb, &pose, margin), Ok(Some(_))),
+            budget,
+        );
         let mut parry_d = f64::NAN;
         let parry_t_d = median_time(|| parry_d = T::mesh_distance(&pa, &peer_id, &pb, &pp), budget);
         let mut parry_hit = None;
@@ -353,6 +361,8 @@ fn rows<T: Peer + Real>(
             contacts,
             t_c,
             t_c2,
+            within,
+            t_w,
             parry_d,
             parry_t_d,
             parry_hit,
@@ -482,6 +492,10 @@ struct NearRow {
     contacts: usize,
     t_c32: f64,
     t_c64: f64,
+    /// The clearance check within [`MARGIN`] (f64) and its times (f32, f64).
+    within: bool,
+    t_w32: f64,
+    t_w64: f64,
 }
 
 /// The margin of the contact query (1 % of the scene's size).
@@ -545,10 +559,20 @@ fn near_rows(
             },
             budget,
         );
+        let mut within = false;
+        let t_w32 =
+            median_time(|| drop(e.mesh_within_margin(&a32, &id32, &b32, &pose32, MARGIN as f32)), budget);
+        let t_w64 = median_time(
+            || within = matches!(e.mesh_within_margin(&a64, &id64, &b64, &pose64, MARGIN), Ok(Some(_))),
+            budget,
+        );
         out.push(NearRow {
             contacts,
             t_c32,
             t_c64,
+            within,
+            t_w32,
+            t_w64,
             pose: pose64,
             d,
             t_d32,
@@ -571,25 +595,25 @@ fn near_md(t: &mut String, rows: &[NearRow]) -> String {
         t,
         "## Near contact at random orientations
 
-The fandisk rotated about a random axis by a random angle and moved along a random direction until its distance to the armadillo is {NEAR_GAP} (0.05 % of the scene's size; bisection on the translation with tridist f64), one placement per row, the same meshes and timing as above. Contacts: the triangle pairs within {MARGIN} (1 % of the scene's size, so twenty times the gap; their count in f64) and the contact query's time; the distance query answers one pair of them.
+The fandisk rotated about a random axis by a random angle and moved along a random direction until its distance to the armadillo is {NEAR_GAP} (0.05 % of the scene's size; bisection on the translation with tridist f64), one placement per row, the same meshes and timing as above. Contacts: the triangle pairs within {MARGIN} (1 % of the scene's size, so twenty times the gap; their count in f64) and the contact query's time; the distance query answers one pair of them. Within: the clearance check at the same margin (`mesh_within_margin`: are the meshes within {MARGIN}? It stops at its first pair within it) and its time; FCL has no such query here (FCL's `collide` has no margin).
 
-| placement | distance | tridist f32 ms | tridist f64 ms | FCL ms | FCL / tridist f32 | FCL / tridist f64 | intersect (tridist, FCL) | tridist f32 ms | tridist f64 ms | FCL ms | contacts | contacts f32 ms | contacts f64 ms | agreement |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+| placement | distance | tridist f32 ms | tridist f64 ms | FCL ms | FCL / tridist f32 | FCL / tridist f64 | intersect (tridist, FCL) | tridist f32 ms | tridist f64 ms | FCL ms | contacts | contacts f32 ms | contacts f64 ms | within | within f32 ms | within f64 ms | agreement |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
-    let mut sum = [0.0; 8];
-    let mut within = 0;
+    let mut sum = [0.0; 10];
+    let mut no_slower = 0;
     for (k, r) in rows.iter().enumerate() {
         let diff = if r.fcl_d.is_nan() { 0.0 } else { (r.d - r.fcl_d).abs() };
-        let agree = diff <= 1e-8 && r.fcl_hit.is_none_or(|h| h == r.hit);
-        for (x, v) in
-            sum.iter_mut().zip([r.t_d32, r.t_d64, r.fcl_t_d, r.t_i32, r.t_i64, r.fcl_t_i, r.t_c32, r.t_c64])
-        {
+        let agree = diff <= 1e-8 && r.fcl_hit.is_none_or(|h| h == r.hit) && r.within == (r.contacts > 0);
+        let times =
+            [r.t_d32, r.t_d64, r.fcl_t_d, r.t_i32, r.t_i64, r.fcl_t_i, r.t_c32, r.t_c64, r.t_w32, r.t_w64];
+        for (x, v) in sum.iter_mut().zip(times) {
             *x += v;
         }
         // placements whose contact query took no longer than their distance query
-        within += usize::from(r.t_c32 <= r.t_d32 && r.t_c64 <= r.t_d64);
+        no_slower += usize::from(r.t_c32 <= r.t_d32 && r.t_c64 <= r.t_d64);
         let _ = writeln!(
             t,
-            "| {k} | {:.6e} | {} | {} | {} | {} | {} | {}, {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {k} | {:.6e} | {} | {} | {} | {} | {} | {}, {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.d,
             ms(r.t_d32),
             ms(r.t_d64),
@@ -604,6 +628,9 @@ The fandisk rotated about a random axis by a random angle and moved along a rand
             r.contacts,
             ms(r.t_c32),
             ms(r.t_c64),
+            if r.within { "yes" } else { "no" },
+            ms(r.t_w32),
+            ms(r.t_w64),
             agreement(agree, diff)
         );
     }
@@ -611,7 +638,7 @@ The fandisk rotated about a random axis by a random angle and moved along a rand
     let m = sum.map(|x| x / n);
     let _ = writeln!(
         t,
-        "\nMean time per placement: distance tridist f32 {} ms, f64 {} ms, FCL {} ms (FCL / tridist of the means **{} (f32)**, **{} (f64)**); intersect tridist f32 {} ms, f64 {} ms, FCL {} ms; contacts within {MARGIN} tridist f32 {} ms, f64 {} ms (contacts / distance of the means: {} (f32), {} (f64); the contact query no slower than the distance query in both precisions at {within} of {} placements).\n",
+        "\nMean time per placement: distance tridist f32 {} ms, f64 {} ms, FCL {} ms (FCL / tridist of the means **{} (f32)**, **{} (f64)**); intersect tridist f32 {} ms, f64 {} ms, FCL {} ms; contacts within {MARGIN} tridist f32 {} ms, f64 {} ms (contacts / distance of the means: {} (f32), {} (f64); the contact query no slower than the distance query in both precisions at {no_slower} of {} placements); within {MARGIN} (the clearance check) tridist f32 {} ms, f64 {} ms (distance / within of the means: {} (f32), {} (f64)).\n",
         ms(m[0]),
         ms(m[1]),
         ms(m[2]),
@@ -624,17 +651,22 @@ The fandisk rotated about a random axis by a random angle and moved along a rand
         ms(m[7]),
         ratio(m[6] / m[0], 2),
         ratio(m[7] / m[1], 2),
-        rows.len()
+        rows.len(),
+        ms(m[8]),
+        ms(m[9]),
+        ratio(m[0] / m[8], 2),
+        ratio(m[1] / m[9], 2)
     );
     format!(
-        " Near contact ({} placements at random orientations, {NEAR_GAP} apart), mean per placement: distance tridist f32 {} ms, FCL {} ms (**{}**); intersect tridist f32 {} ms, FCL {} ms; the contacts within {MARGIN} (1 % of the scene's size) took {} (f32) the distance query's time.",
+        " Near contact ({} placements at random orientations, {NEAR_GAP} apart), mean per placement: distance tridist f32 {} ms, FCL {} ms (**{}**); intersect tridist f32 {} ms, FCL {} ms; the contacts within {MARGIN} (1 % of the scene's size) took {} (f32) the distance query's time, and the clearance check (are they within {MARGIN}?) answers in {} of it.",
         rows.len(),
         ms(m[0]),
         ms(m[2]),
         ratio(m[2] / m[0], 2),
         ms(m[3]),
         ms(m[5]),
-        ratio(m[6] / m[0], 2)
+        ratio(m[6] / m[0], 2),
+        ratio(m[8] / m[0], 2)
     )
 }
 
@@ -677,15 +709,18 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
             m.fcl_build.map_or("-".to_string(), ms),
             ratio(m.build / m.parry_build, 2),
         ));
-        let _ = writeln!(t, "| pose (x) | distance | tridist ms | FCL ms | parry3d ms | FCL / tridist | parry3d / tridist | intersect (tridist, FCL, parry3d) | tridist ms | FCL ms | parry3d ms | contacts | contacts ms | 2 threads ms | agreement |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(t, "| pose (x) | distance | tridist ms | FCL ms | parry3d ms | FCL / tridist | parry3d / tridist | intersect (tridist, FCL, parry3d) | tridist ms | FCL ms | parry3d ms | contacts | contacts ms | 2 threads ms | within | within ms | agreement |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
         let (mut parry_ratio, mut fcl_ratio, mut worst) = (0.0, 0.0, 0.0f64);
-        let (mut sum_t, mut sum_fcl, mut sum_ti, mut sum_fcl_i) = (0.0, 0.0, 0.0, 0.0);
+        let (mut sum_t, mut sum_fcl, mut sum_ti, mut sum_fcl_i, mut sum_tw) = (0.0, 0.0, 0.0, 0.0, 0.0);
         for r in &m.rows {
             let tol = if p == "f32" { 1e-4 } else { 1e-8 };
             let diff =
                 (r.d - r.parry_d).abs().max(if r.fcl_d.is_nan() { 0.0 } else { (r.d - r.fcl_d).abs() });
-            let agree =
-                diff <= tol && r.parry_hit.is_none_or(|h| h == r.hit) && r.fcl_hit.is_none_or(|h| h == r.hit);
+            // (and the clearance check says yes exactly where there are contacts)
+            let agree = diff <= tol
+                && r.parry_hit.is_none_or(|h| h == r.hit)
+                && r.fcl_hit.is_none_or(|h| h == r.hit)
+                && r.within == (r.contacts > 0);
             worst = worst.max(diff);
             parry_ratio += r.parry_t_d / r.t_d;
             fcl_ratio += r.fcl_t_d / r.t_d;
@@ -693,9 +728,10 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
             sum_fcl += r.fcl_t_d;
             sum_ti += r.t_i;
             sum_fcl_i += r.fcl_t_i;
+            sum_tw += r.t_w;
             let _ = writeln!(
                 t,
-                "| {:+.2} | {:.6e} | {} | {} | {} | {} | {} | {}, {}, {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {:+.2} | {:.6e} | {} | {} | {} | {} | {} | {}, {}, {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 r.x,
                 r.d,
                 ms(r.t_d),
@@ -712,6 +748,8 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
                 r.contacts,
                 ms(r.t_c),
                 ms(r.t_c2),
+                if r.within { "yes" } else { "no" },
+                ms(r.t_w),
                 agreement(agree, diff)
             );
         }
@@ -720,13 +758,14 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         let (deep, ceiling) = m.scaling.map_or((f64::NAN, f64::NAN), |x| (x.two, x.apart));
         let _ = writeln!(
             t,
-            "\nMean time per pose: distance tridist {} ms, FCL {} ms (FCL / tridist of the means **{}**; mean of the per-pose ratios {}); intersect tridist {} ms, FCL {} ms. parry3d's distance time / tridist's, mean over the poses: **{:.1}x**. Largest distance difference {worst:.1e}. Contacts on two threads at the pose with the most contacts: **{}** one thread's speed (two independent one-thread workers: {}).\n",
+            "\nMean time per pose: distance tridist {} ms, FCL {} ms (FCL / tridist of the means **{}**; mean of the per-pose ratios {}); intersect tridist {} ms, FCL {} ms; within {MARGIN} (the clearance check) tridist {} ms. parry3d's distance time / tridist's, mean over the poses: **{:.1}x**. Largest distance difference {worst:.1e}. Contacts on two threads at the pose with the most contacts: **{}** one thread's speed (two independent one-thread workers: {}).\n",
             ms(sum_t / n),
             ms(sum_fcl / n),
             ratio(sum_fcl / sum_t, 2),
             ratio(fcl_ratio / n, 2),
             ms(sum_ti / n),
             ms(sum_fcl_i / n),
+            ms(sum_tw / n),
             parry_ratio / n,
             ratio(deep, 2),
             ratio(ceiling, 2)

@@ -343,7 +343,10 @@ fn a_small_report_writes_parseable_files() {
             assert_eq!(cells[8], verdicts, "{cells:?}");
             assert_eq!(cells[12].parse::<usize>().unwrap() > 0, through, "{cells:?}");
             assert_eq!(cells[4].parse::<f64>().is_ok_and(|t| t > 0.0), fcl, "{cells:?}"); // FCL's time
-            assert_eq!(cells[15], "ok", "{cells:?}");
+                                                                                          // the clearance check within the contacts' margin: yes exactly where they are
+            assert_eq!(cells[15], v, "{cells:?}");
+            assert!(cells[16].parse::<f64>().unwrap() >= 0.0, "{cells:?}");
+            assert_eq!(cells[17], "ok", "{cells:?}");
         }
     }
     // near contact: one row per placement (the poses asked for), each placed at the gap, apart,
@@ -369,7 +372,10 @@ fn a_small_report_writes_parseable_files() {
         // the pair at the gap (1e-3) is within the margin (0.02): at least one contact
         assert!(cells[12].parse::<usize>().unwrap() >= 1, "{r}");
         assert!(cells[13..15].iter().all(|x| x.parse::<f64>().unwrap() >= 0.0), "{r}");
-        assert_eq!(cells[15], "ok", "{r}");
+        // and so the clearance check at that margin says yes
+        assert_eq!(cells[15], "yes", "{r}");
+        assert!(cells[16..18].iter().all(|x| x.parse::<f64>().unwrap() >= 0.0), "{r}");
+        assert_eq!(cells[18], "ok", "{r}");
     }
     // two threads on the contact query at the middle pose, with the two independent workers'
     // ceiling, per precision: both speed-ups measured (positive ratios)
@@ -539,10 +545,34 @@ fn mesh_subcommand_answers_and_rejects_bad_input() {
     std::fs::write(&bad, "OFF\n4 4 0\n0 0 0\n1 0 0\n").unwrap();
     for prec in ["f32", "f64"] {
         let (code, out, err) = tridist(
-            &["mesh", a, a, "--pose-b", "3,0,0", "--margin", "2.5", "--point", "5,0,0", "--precision", prec],
+            &[
+                "mesh",
+                a,
+                a,
+                "--pose-b",
+                "3,0,0",
+                "--margin",
+                "2.5",
+                "--point",
+                "5,0,0",
+                "--precision",
+                prec,
+                "--show",
+                "20",
+            ],
             "",
         );
         assert_eq!(code, 0, "{err}");
+        // the clearance check names one of the contacts (all 12 shown)
+        let pair = out.split("within 2.5: yes (triangles ").nth(1).and_then(|r| r.split(';').next());
+        let pair = pair.unwrap_or_else(|| panic!("no clearance line: {out}"));
+        assert!(contact_lines(&out).iter().any(|c| c.0 == pair), "{pair} is not a contact: {out}");
+        // below the distance (2): none, and no contacts
+        let (code, below, err) =
+            tridist(&["mesh", a, a, "--pose-b", "3,0,0", "--margin", "1.99", "--precision", prec], "");
+        assert_eq!(code, 0, "{err}");
+        assert!(below.contains("within 1.99: no ("), "{below}");
+        assert_eq!(number_after(&below, "contacts within 1.99: "), 0.0, "{below}");
         // the face x = 0 of the moved copy against the vertex (1, 0, 0): distance 2
         assert_eq!(number_after(&out, "distance: "), 2.0, "{out}");
         assert!(out.contains("intersect: no"), "{out}");

@@ -359,10 +359,11 @@ pub struct Worst {
     pub gap_what: String,
 }
 
-/// The contact margins `check_scene` tries for a scene whose minimum distance is `dstar`: just
-/// above the minimum and 5 % of the size. Both grow with `dstar` ([`Brute`] relies on it).
-fn margins(dstar: f64, big_s: f64) -> [f64; 2] {
-    [dstar * 1.5 + 1e-3 * big_s.min(4.0), 0.05 * big_s.min(4.0)]
+/// The contact margins `check_scene` tries for a scene whose minimum distance is `dstar`: half
+/// the minimum (no contacts but within rounding of it; 0 where the meshes touch), just above the
+/// minimum and 5 % of the size. All grow with `dstar` ([`Brute`] relies on it).
+fn margins(dstar: f64, big_s: f64) -> [f64; 3] {
+    [dstar * 0.5, dstar * 1.5 + 1e-3 * big_s.min(4.0), 0.05 * big_s.min(4.0)]
 }
 
 /// How far from a change of verdict a pair of magnitude `s` may get either verdict: the
@@ -530,7 +531,8 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         note(err, "distance", &tag)?;
         note(err_pair, "reported pair", &tag)?;
 
-        // 2. contacts at a margin just above the minimum and at 5 % of the size
+        // 2. contacts (and the clearance check) at half the minimum, a margin just above it
+        // and 5 % of the size
         for margin in margins(dstar, big_s) {
             let m = T::from_f64(margin);
             let got = e.mesh_contacts(&ma, &pa, &mb, &pb, m, None).map_err(|e| format!("{tag}: {e}"))?;
@@ -577,6 +579,12 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
                         );
                     }
                 }
+            }
+            // the clearance check decides as the contacts do: a hit exactly when there is a
+            // contact, and the pair it names is one
+            match e.mesh_within_margin(&ma, &pa, &mb, &pb, m).map_err(|e| format!("{tag}: {e}"))? {
+                Some(p) => ensure!(seen.contains(&p), "{tag}: within {margin}: pair {p:?} is not a contact"),
+                None => ensure!(got.is_empty(), "{tag}: within {margin}: none, with {} contacts", got.len()),
             }
             // a cap keeps the first of the order (distance, then triangle numbers)
             let capped =
