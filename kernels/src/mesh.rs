@@ -179,10 +179,11 @@ pub const DEFAULT_WIDTH: usize = 4;
 /// stops them earlier), and so are the answers, as far as the queries define them: the
 /// contact set (each pair decided by the kernels alone), the intersection verdict, the
 /// clearance check's yes or no and the closest point's distance are the same for every tree
-/// (the pair an intersection or a clearance check names may differ: the first found); the distance is within the
-/// search's slack ([`MESH_DISTANCE_SLACK`]) of the same smallest kernel answer, and where
-/// pairs tie within that slack another tree may answer another of them. Only the time is
-/// meant to differ (the differential tests run leaves of 1 and 8 and widths of 2 and 8).
+/// (the pair an intersection or a clearance check names may differ: the first found); the
+/// distance is within the search's slack ([`MESH_DISTANCE_SLACK`]) of the same smallest
+/// kernel answer, and where pairs tie within that slack another tree may answer another of
+/// them. Only the time is meant to differ (the differential tests run leaves of 1 and 8 and
+/// widths of 2 and 8).
 ///
 /// The default (4 children, 4 triangles) is the fastest distance query on the report's
 /// meshes. Larger leaves trade the node tests a query makes for triangle pairs it hands the
