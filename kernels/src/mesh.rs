@@ -1793,9 +1793,7 @@ impl<T: Real> Search<T> for Contacts<T> {
             &pend.b,
             Outputs::new().sqdist(&mut self.d).points(&mut self.p, &mut self.q),
         )?;
-        // (the threshold of within-margin, in the working precision)
-        let m = T::from_f64(self.margin);
-        let m2 = m * m;
+        let m2 = margin_sq::<T>(self.margin);
         let worst = self.worst.unwrap_or(m2);
         for k in 0..n {
             check_finite(self.d[k])?;
@@ -1813,6 +1811,14 @@ impl<T: Real> Search<T> for Contacts<T> {
         self.cut();
         Ok(false)
     }
+}
+
+/// The squared margin a triangle pair's squared distance is compared with, in the working
+/// precision: the one threshold of the contact query and the clearance check, so that they
+/// decide every pair alike.
+fn margin_sq<T: Real>(margin: f64) -> T {
+    let m = T::from_f64(margin);
+    m * m
 }
 
 /// [`Engine::mesh_intersect`] and [`Engine::mesh_within_margin`]: stops at the first batch
@@ -1863,11 +1869,10 @@ impl<T: Real> Search<T> for FirstHit<T> {
             self.d.clear();
             self.d.resize(n, T::ZERO);
             e.run(Query::TriTri, &pend.a, &pend.b, Outputs::new().sqdist(&mut self.d))?;
-            // (the contact query's threshold, in the working precision)
-            let m = T::from_f64(margin);
+            let m2 = margin_sq::<T>(margin);
             for k in 0..n {
                 check_finite(self.d[k])?;
-                if self.d[k] <= m * m {
+                if self.d[k] <= m2 {
                     self.keep(pend.ids[k]);
                 }
             }

@@ -196,13 +196,13 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
         }
         None => outln!("distance: inf (a mesh is empty)"),
     }
-    outln!("distance query: {:.3} ms", t0.elapsed().as_secs_f64() * 1e3);
+    outln!("distance query: {:.3} ms", ms_since(t0));
     let t0 = Instant::now();
     match e.mesh_intersect(&ma, &pa, &mb, &pb)? {
         Some((i, j)) => outln!("intersect: yes (triangles {i} {j})"),
         None => outln!("intersect: no"),
     }
-    outln!("intersection query: {:.3} ms", t0.elapsed().as_secs_f64() * 1e3);
+    outln!("intersection query: {:.3} ms", ms_since(t0));
     if let Some(m) = a.margin {
         let t0 = Instant::now();
         if !T::from_f64(m).is_finite() {
