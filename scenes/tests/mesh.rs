@@ -123,9 +123,12 @@ fn threaded_contacts_and_tree_shapes_give_the_same_answers() {
             let m = T::from_f64(0.02);
             let (_, a, b) = &trees[0];
             let one = e.mesh_contacts(a, &id, b, &p, m, None).unwrap();
-            let two = e.threads(2).mesh_contacts(a, &id, b, &p, m, None).unwrap();
-            assert_eq!(one.len(), two.len(), "pose {k}");
-            assert!(one == two, "pose {k}: threaded contacts differ");
+            // two threads, and three (more sorted ranges than this machine's cores)
+            for threads in [2, 3] {
+                let many = e.threads(threads).mesh_contacts(a, &id, b, &p, m, None).unwrap();
+                assert_eq!(one.len(), many.len(), "pose {k}, {threads} threads");
+                assert!(one == many, "pose {k}: contacts on {threads} threads differ");
+            }
             // the documented order: squared distance, then triangle numbers (strictly: no pair twice)
             let key = |c: &tridist::Contact<T>| (c.sqdist, c.tri_a, c.tri_b);
             assert!(one.windows(2).all(|w| key(&w[0]) < key(&w[1])), "pose {k}: contacts out of order");
