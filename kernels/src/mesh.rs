@@ -2030,9 +2030,10 @@ fn sort_threaded<T: Real>(threads: usize, parts: Vec<Vec<Contact<T>>>) -> Vec<Co
     all
 }
 
-/// Sampled keys per range of [`sort_threaded`]: the ranges' sizes vary by about `1 /
-/// sqrt(SAMPLE_PER_RANGE * threads)` of the total, and the threads wait for the largest.
-/// (At 64, the two ranges of the report's deepest pose held 24,995 and 30,471 contacts.)
+/// Sampled keys per range of [`sort_threaded`]: a splitter's place in the order varies by
+/// about `1 / (2 sqrt(SAMPLE_PER_RANGE * threads))` of the total (the standard deviation of a
+/// sample's median), and the threads wait for the largest range. (At 64 per range, the two
+/// ranges of the report's deepest pose held 24,995 and 30,471 contacts.)
 const SAMPLE_PER_RANGE: usize = 512;
 
 impl Engine {
