@@ -5,7 +5,7 @@
 //! largest projection gap over the line through their centres and the six box axes, less
 //! their balls and every rounding); a node pair is pruned when it exceeds the search's limit.
 //!
-//! Each node's moved bounds are a [`Column`] of [`ROWS`] numbers (the row constants below);
+//! Each node's moved bounds are a column of [`ROWS`] numbers (the row constants below);
 //! the children of a node are stored as a group, row by row, `stride` numbers per row (a
 //! structure of arrays), so one load fills a vector with one quantity of consecutive children.
 //!
@@ -42,6 +42,7 @@ pub(crate) const N1: usize = 29;
 pub(crate) const ROWS: usize = 32;
 
 /// One node's moved bounds (the rows above).
+#[cfg(test)]
 pub(crate) type Column = [f64; ROWS];
 
 /// Rows of a node's bounds in its mesh's own frame, as the mesh keeps them (a structure of
@@ -58,7 +59,7 @@ pub(crate) const SHI: usize = 19;
 /// Rows of a node's bounds in its mesh's frame.
 pub(crate) const SROWS: usize = 22;
 
-/// The moved bounds ([`Column`]s) of `n` consecutive nodes, a lane per node.
+/// The moved bounds (columns of [`ROWS`] numbers) of `n` consecutive nodes, a lane per node.
 pub(crate) struct Columns<'a> {
     pub mv: &'a Moved,
     /// The nodes' bounds in their mesh's frame: row `r` (the `S*` constants) of node `i` at
