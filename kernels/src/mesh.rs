@@ -161,7 +161,7 @@
 //! walk needs them, are moved like a group of children, on the engine's instruction set
 //! (`Side::bounds_at`). Before, a root's bounds were moved one column in the portable code
 //! and copied to every lane, and that with taking the scratch was most of a collision query
-//! at a separated pose: `spin mesh intersect 0 f32 1 1` answered 1.96-2.11 million queries
+//! at a separated pose: `spin mesh intersect 0 f32 1 1` answered 1.91-2.11 million queries
 //! a second, and 7.63-8.37 million after (three rounds, the two builds alternated,
 //! 2026-11-28, the AMD EPYC); the clearance check (`within`) and the contact query at pose 0
 //! went from 0.93-1.04 and 0.96-0.99 to 3.59-3.85 and 3.08-3.72 million in half a second.
@@ -959,6 +959,7 @@ impl Obb {
 }
 
 /// A pose in f64 with the relative slack that makes moved boxes contain the moved vertices.
+#[derive(Clone, Copy)]
 pub(crate) struct Moved {
     pub(crate) r: [[f64; 3]; 3],
     pub(crate) t: [f64; 3],
@@ -1204,14 +1205,12 @@ impl<T> Drop for Side<'_, T> {
 }
 
 impl<'m, T: Real> Side<'m, T> {
-    /// The side, or [`Error::NonFiniteCoordinate`] when the moved mesh leaves the range of `T`.
-    fn new(mesh: &'m Mesh<T>, pose: &'m Pose<T>, isa: crate::Isa) -> Result<Self, Error> {
-        let mv = Moved::of(pose);
-        mv.fits(mesh)?;
+    /// The side of `mesh` in `pose`, moved by `mv` (`pose` as [`moved`] checks it).
+    fn new(mesh: &'m Mesh<T>, pose: &'m Pose<T>, mv: Moved, isa: crate::Isa) -> Self {
         let slots = Slots::take(mesh.nodes.len());
         // a multiple of every f64 lane count, at least the width
         let stride = mesh.shape.width.next_multiple_of(4);
-        Ok(Side { mesh, pose, isa, mv, slots, stride, tris: Vec::new(), boxes: Vec::new() })
+        Side { mesh, pose, isa, mv, slots, stride, tris: Vec::new(), boxes: Vec::new() }
     }
 
     /// Where node `i`'s moved bounds are in `Slots::groups`: row `r` at `pos + r * stride`.
@@ -1249,10 +1248,10 @@ impl<'m, T: Real> Side<'m, T> {
     }
 
     /// The moved bounds of internal node `i`'s children as a group ([`NodeTest::group`]): its
-    /// offset in `Slots::groups`, computed on first use by the node columns of `isa`
-    /// ([`crate::algo::nodes::columns`], a lane per child). The lanes past the last child hold
-    /// the next nodes' bounds (real nodes: the mesh pads its rows).
-    fn group(&mut self, isa: crate::Isa, i: u32) -> usize {
+    /// offset in `Slots::groups`, computed on first use by the node columns of the side's
+    /// instruction set ([`crate::algo::nodes::columns`], a lane per child). The lanes past the
+    /// last child hold the next nodes' bounds (real nodes: the mesh pads its rows).
+    fn group(&mut self, i: u32) -> usize {
         let size = ROWS * self.stride;
         let k = self.slots.entry(i)[4];
         if k != u32::MAX {
@@ -1263,7 +1262,7 @@ impl<'m, T: Real> Side<'m, T> {
         self.slots.entry(i)[4] = (at / size) as u32;
         let out = &mut self.slots.groups[at..at + size];
         let mut job = self.mesh.columns(&self.mv, node.first as usize, self.stride, out, self.stride);
-        crate::isa::node_columns(isa, &mut job);
+        crate::isa::node_columns(self.isa, &mut job);
         for j in 0..node.kids {
             let e = self.slots.entry(node.first + j);
             if e[1] == u32::MAX {
@@ -1313,7 +1312,7 @@ fn siblings<T: Real>(
     out: &mut Vec<Visit>,
 ) {
     let (n, first) = (side.mesh.nodes[p as usize].kids as usize, side.mesh.nodes[p as usize].first);
-    let (at, fixed_at) = (side.group(isa, p), other.bounds_at(f));
+    let (at, fixed_at) = (side.group(p), other.bounds_at(f));
     let g = node_test(isa, (side, at, n), (other, fixed_at), s.limit());
     for j in 0..n {
         if g.gap[j] <= g.lim[j] {
@@ -1565,36 +1564,39 @@ fn search<T: Real, S: Search<T>>(
     if a.is_empty() || b.is_empty() {
         return Ok(());
     }
-    if roots_apart(a, pa, b, pb, s)? {
+    let (ma, mb) = (moved(a, pa)?, moved(b, pb)?);
+    if roots_apart((a, &ma), (b, &mb), s) {
         return Ok(());
     }
-    let (mut sa, mut sb) = (Side::new(a, pa, e.isa())?, Side::new(b, pb, e.isa())?);
+    let (mut sa, mut sb) = (Side::new(a, pa, ma, e.isa()), Side::new(b, pb, mb, e.isa()));
     let stack = root_visit(e.isa(), &mut sa, &mut sb, s).into_iter().collect();
     walk(e, &mut sa, &mut sb, stack, s)
+}
+
+/// `pose` in f64 ([`Moved`]), or [`Error::NonFiniteCoordinate`] when `mesh` moved by it leaves
+/// the range of `T`.
+fn moved<T: Real>(mesh: &Mesh<T>, pose: &Pose<T>) -> Result<Moved, Error> {
+    let mv = Moved::of(pose);
+    mv.fits(mesh)?;
+    Ok(mv)
 }
 
 /// Moves the roots' boxes, starts the search with their magnitude ([`Search::start`]) and
 /// answers whether their gap alone exceeds the search's limit: then no triangle pair is
 /// within it, and the query is answered before any scratch is taken or any oriented box
 /// moved (the same lower bound as the node test's, less fused: both are below the exact
-/// gap). Errors: [`Error::NonFiniteCoordinate`] where a moved mesh leaves the range of `T`
-/// ([`Side::new`]). (A collision query at a separated pose took about 500 ns, most of it in
-/// taking the scratch and moving both roots' bounds, and about 125 ns with this test first:
-/// `spin mesh intersect 0 f32 1 1`, see the module's docs.)
+/// gap). (A collision query at a separated pose took about 500 ns, most of it in taking the
+/// scratch and moving both roots' bounds, and about 125 ns with this test first: `spin mesh
+/// intersect 0 f32 1 1`, see the module's docs.)
 fn roots_apart<T: Real, S: Search<T>>(
-    a: &Mesh<T>,
-    pa: &Pose<T>,
-    b: &Mesh<T>,
-    pb: &Pose<T>,
+    (a, ma): (&Mesh<T>, &Moved),
+    (b, mb): (&Mesh<T>, &Moved),
     s: &mut S,
-) -> Result<bool, Error> {
-    let (ma, mb) = (Moved::of(pa), Moved::of(pb));
-    ma.fits(a)?;
-    mb.fits(b)?;
-    let (ba, bb) = (a.moved_box(0, &ma), b.moved_box(0, &mb));
+) -> bool {
+    let (ba, bb) = (a.moved_box(0, ma), b.moved_box(0, mb));
     let mag = magnitude(&ba, &bb);
     s.start(mag);
-    Ok(box_gap2(&ba, &bb) > s.limit().at(|| mag))
+    box_gap2(&ba, &bb) > s.limit().at(|| mag)
 }
 
 fn check_finite<T: Real>(d: T) -> Result<(), Error> {
@@ -1977,11 +1979,12 @@ fn contacts_threaded<T: Real>(
     if a.is_empty() || b.is_empty() {
         return Ok(Vec::new());
     }
+    let (ma, mb) = (moved(a, pa)?, moved(b, pb)?);
     let mut probe = state();
-    if roots_apart(a, pa, b, pb, &mut probe)? {
+    if roots_apart((a, &ma), (b, &mb), &mut probe) {
         return Ok(Vec::new());
     }
-    let (mut sa, mut sb) = (Side::new(a, pa, e.isa())?, Side::new(b, pb, e.isa())?);
+    let (mut sa, mut sb) = (Side::new(a, pa, ma, e.isa()), Side::new(b, pb, mb, e.isa()));
     let want = 32 * e.thread_count();
     let mut queue: std::collections::VecDeque<Visit> =
         root_visit(e.isa(), &mut sa, &mut sb, &probe).into_iter().collect();
@@ -2004,9 +2007,8 @@ fn contacts_threaded<T: Real>(
     let found = crate::engine::par_map_init(
         e.thread_count(),
         &pieces,
-        || Side::new(a, pa, e.isa()).and_then(|sa| Ok((sa, Side::new(b, pb, e.isa())?))),
-        |sides, &v| {
-            let (sa, sb) = sides.as_mut().map_err(|err| err.clone())?;
+        || (Side::new(a, pa, ma, e.isa()), Side::new(b, pb, mb, e.isa())),
+        |(sa, sb), &v| {
             let mut s = state();
             walk(&single, sa, sb, vec![v], &mut s)?;
             Ok(s.found)
@@ -2490,7 +2492,7 @@ mod tests {
         lim: f64,
     ) -> [f64; super::MAX_WIDTH] {
         let n = sa.mesh.nodes[p as usize].kids as usize;
-        let (at, fixed_at) = (sa.group(isa, p), sb.bounds_at(f));
+        let (at, fixed_at) = (sa.group(p), sb.bounds_at(f));
         super::node_test(isa, (sa, at, n), (sb, fixed_at), super::Limit::Fixed(lim)).gap
     }
 
@@ -2695,8 +2697,8 @@ mod tests {
             let pa = Pose::from_axis_angle([1.0, 2.0, 3.0], 0.7, [0.1 * size, 0.0, 0.0]).unwrap();
             let pb = Pose::from_axis_angle([-2.0, 0.5, 1.0], 2.1, [0.0, 0.2 * size, 0.0]).unwrap();
             let (mut sa, mut sb) = (
-                Side::new(&a, &pa, crate::Isa::Scalar).expect("side"),
-                Side::new(&b, &pb, crate::Isa::Scalar).expect("side"),
+                Side::new(&a, &pa, moved(&a, &pa).expect("pose"), crate::Isa::Scalar),
+                Side::new(&b, &pb, moved(&b, &pb).expect("pose"), crate::Isa::Scalar),
             );
             let under = |m: &Mesh<f64>, pose: &Pose<f64>, i: u32| {
                 let (mut out, mut todo) = (Vec::new(), vec![i]);
@@ -2810,15 +2812,15 @@ mod tests {
             let pa = Pose::from_axis_angle([1.0, 2.0, 3.0], 0.7, [0.1 * size, 0.0, -offset]).unwrap();
             let pb = Pose::from_axis_angle([-2.0, 0.5, 1.0], 2.1, [0.0, 0.2 * size, 0.0]).unwrap();
             let (mut sa, mut sb) = (
-                Side::new(&a, &pa, crate::Isa::Scalar).expect("side"),
-                Side::new(&b, &pb, crate::Isa::Scalar).expect("side"),
+                Side::new(&a, &pa, moved(&a, &pa).expect("pose"), crate::Isa::Scalar),
+                Side::new(&b, &pb, moved(&b, &pb).expect("pose"), crate::Isa::Scalar),
             );
             for p in (0..a.nodes.len() as u32).filter(|&p| a.nodes[p as usize].count == 0) {
                 let (n, first) = (a.nodes[p as usize].kids as usize, a.nodes[p as usize].first);
                 for f in 0..b.nodes.len() as u32 {
                     for &isa in &isas {
                         for limit in limits {
-                            let (at, fixed_at) = (sa.group(isa, p), sb.bounds_at(f));
+                            let (at, fixed_at) = (sa.group(p), sb.bounds_at(f));
                             let g = node_test(isa, (&sa, at, n), (&sb, fixed_at), limit);
                             let fb = sb.aabb(f);
                             for j in 0..MAX_WIDTH {
