@@ -611,62 +611,83 @@ impl Engine {
         // Pieces of whole chunks, many per thread, so that a thread that finishes early (or a
         // helper that wakes late) takes work from the others.
         let piece = (n.div_ceil(16 * self.threads)).div_ceil(Engine::PIECE).max(1) * Engine::PIECE;
-        let mut jobs = Vec::with_capacity(n.div_ceil(piece));
-        let (a, b, prm, query, widen, exact) = (job.a, job.b, job.prm, job.query, job.widen, job.exact);
-        let mut sink = job.sink;
-        let mut start = 0;
-        while start < n {
-            let len = piece.min(n - start);
-            let (now, rest) = sink.split_at(len);
-            sink = rest;
-            jobs.push(Job {
+        run_pieces(self.isa, self.threads, piece, job)
+    }
+}
+
+/// The pairs of a split batch not taken yet, `front..back`, and their outputs.
+struct Left<'a, T> {
+    front: usize,
+    back: usize,
+    sink: Sink<'a, T>,
+}
+
+/// Runs `job` in pieces of `piece` pairs (the last one shorter) on `threads` threads
+/// ([`together`]), each taking the next piece as it finishes one: the calling thread from the
+/// front, the helpers from the back. A batch run again (a planner's next step, a benchmark's
+/// next round) then leaves about the same half in each core's cache; taken in one order by
+/// both, the pieces went to either core. With the caller's wait of [`together`], 2 threads
+/// answered 4000 nearby Armadillo pairs at 1.24-1.61x one thread's speed in one order and
+/// 1.45-1.75x from the two ends (`spin tri_tri arm_nearby f32 avx2fma 1 4000 1|2`, two copies
+/// of each build alternated twice; the machine is shared and noisy).
+///
+/// A piece's job is made by the thread that takes it, its outputs split off the ones left
+/// under the lock, and each thread adds up its own path counts. The jobs had been made in a
+/// vector by the caller before the split and their counts summed after it: 0.63-0.75 µs and
+/// about 0.8 µs of a 23 µs batch on two threads (0.25-0.33 µs to make them on one), the
+/// helper's jobs written on one core and read on the other (throwaway timestamps, `spin
+/// tri_tri arm_nearby f32 avx2fma 1 4000 2`, 2026-11-29, the AMD EPYC). Without that vector,
+/// with the driver's spare open-pair lists (`drv.rs`, `Pending`) and the caller's spinning
+/// wait ([`together`]): 143.7 -> 157.0 M/s on two threads, faster in 10 of 10 rounds alternated
+/// with the parent's binary (the machine noisy), and two threads over one 1.40-1.77x (median
+/// 1.59x) -> 1.54-1.80x (1.66x) in 8 rounds of both builds alternated; later, quieter,
+/// 1.69-1.81x (1.75x). Pieces shrinking towards the end (each a quarter of what was left,
+/// down to 256 pairs) were no better this time either: 1.63-1.89x (1.74x) in those 8 rounds.
+fn run_pieces<T: Real>(isa: Isa, threads: usize, piece: usize, job: Job<'_, T>) -> PathCounts {
+    use std::sync::Mutex;
+    let Job { query, a, b, n, prm, sink, widen, exact, .. } = job;
+    let left = Mutex::new(Left { front: 0, back: n, sink });
+    let total = Mutex::new(PathCounts::default());
+    together(threads.min(n.div_ceil(piece)), &|caller| {
+        let mut mine = PathCounts::default();
+        loop {
+            let (start, len, sink) = {
+                let mut l = left.lock().unwrap_or_else(|e| e.into_inner());
+                if l.front >= l.back {
+                    break;
+                }
+                let rest = std::mem::take(&mut l.sink);
+                // the first piece left, or the last one (the pieces start at multiples of
+                // `piece`: `front` is one, and `back` is one or `n`)
+                let start = if caller { l.front } else { (l.back - 1) / piece * piece };
+                let len = if caller { piece.min(l.back - l.front) } else { l.back - start };
+                let (x, y) = rest.split_at(if caller { len } else { start - l.front });
+                let (sink, rest) = if caller { (x, y) } else { (y, x) };
+                l.sink = rest;
+                if caller {
+                    l.front += len;
+                } else {
+                    l.back = start;
+                }
+                (start, len, sink)
+            };
+            let mut job = Job {
                 query,
                 a: a.from(start),
                 b: b.from(start),
                 n: len,
                 prm,
-                sink: now,
+                sink,
                 counts: PathCounts::default(),
                 widen,
                 exact,
-            });
-            start += len;
-        }
-        run_pieces(self.isa, self.threads, &mut jobs);
-        let mut total = PathCounts::default();
-        for j in &jobs {
-            total.add(&j.counts);
-        }
-        total
-    }
-}
-
-/// Runs the pieces on `threads` threads ([`together`]), each taking the next piece as it
-/// finishes one: the calling thread from the front, the helpers from the back. A batch run
-/// again (a planner's next step, a benchmark's next round) then leaves about the same half in
-/// each core's cache; taken in one order by both, the pieces went to either core. With the
-/// caller's wait of [`together`], 2 threads answered 4000 nearby Armadillo pairs at
-/// 1.24-1.61x one thread's speed in one order and 1.45-1.75x from the two ends (`spin tri_tri
-/// arm_nearby f32 avx2fma 1 4000 1|2`, two copies of each build alternated twice; the machine
-/// is shared and noisy).
-fn run_pieces<T: Real>(isa: Isa, threads: usize, jobs: &mut [Job<'_, T>]) {
-    use std::sync::Mutex;
-    let threads = threads.min(jobs.len());
-    // the pieces not taken yet
-    let rest = Mutex::new(jobs);
-    together(threads, &|caller| loop {
-        let job = {
-            let mut r = rest.lock().unwrap_or_else(|e| e.into_inner());
-            let all = std::mem::take(&mut *r);
-            let Some((job, left)) = (if caller { all.split_first_mut() } else { all.split_last_mut() })
-            else {
-                break;
             };
-            *r = left;
-            job
-        };
-        T::run_job(isa, job);
+            T::run_job(isa, &mut job);
+            mine.add(&job.counts);
+        }
+        total.lock().unwrap_or_else(|e| e.into_inner()).add(&mine);
     });
+    total.into_inner().unwrap_or_else(|e| e.into_inner())
 }
 
 /// `f` on every item, on up to `threads` threads ([`together`]), each thread with its own
@@ -700,14 +721,20 @@ pub(crate) fn par_map_init<I: Sync, St, R: Send>(
 /// are left out: the threads that run take their pieces (the caller alone at worst), with the
 /// same answers, instead of a panic.
 ///
-/// Done with its share, the caller waits for the helpers awake ([`Engine::WAIT_AWAKE`],
-/// yielding its core to any thread that needs it) before the pool's own wait, which sleeps.
+/// Done with its share, the caller waits for the helpers awake ([`Engine::WAIT_AWAKE`]:
+/// spinning for its first 10 µs, the imbalance between two threads' last pieces of a small
+/// batch, then yielding its core to any thread that needs it) before the pool's own wait,
+/// which sleeps. (Yielding from the start, each look at the helpers was a system call; the
+/// spin's own share of the gain above was within the noise: 153.8 -> 157.6 M/s, 5 of 8
+/// rounds.)
 /// Asleep, it needed waking when the last helper finished, and the helpers, idle meanwhile, had gone to sleep
 /// too by the time the next batch came: 2 threads answered 4000 nearby Armadillo pairs (30 µs
 /// batches) at 0.88-1.26x one thread's speed, 1.24-1.61x with the wait alone and 1.45-1.80x
 /// with the two ends of [`run_pieces`] as well (`spin tri_tri arm_nearby f32 avx2fma 1 4000
 /// 1|2`, copies of each build alternated; the machine is shared and noisy).
 fn together(threads: usize, work: &(dyn Fn(bool) + Sync)) {
+    /// How long the caller's wait spins before it yields.
+    const SPIN: std::time::Duration = std::time::Duration::from_micros(10);
     if threads <= 1 {
         return work(true);
     }
@@ -728,8 +755,16 @@ fn together(threads: usize, work: &(dyn Fn(bool) + Sync)) {
             }
             work(true);
             let t0 = std::time::Instant::now();
-            while done.load(Ordering::Acquire) < threads - 1 && t0.elapsed() < Engine::WAIT_AWAKE {
-                std::thread::yield_now();
+            while done.load(Ordering::Acquire) < threads - 1 {
+                let waited = t0.elapsed();
+                if waited >= Engine::WAIT_AWAKE {
+                    break;
+                }
+                if waited < SPIN {
+                    std::hint::spin_loop();
+                } else {
+                    std::thread::yield_now();
+                }
             }
         });
     }
