@@ -399,8 +399,8 @@ impl Engine {
     /// pieces that idle threads take from busy ones: the calling thread and `n - 1` helpers (a
     /// persistent rayon pool with the default `rayon` feature, std scoped threads without it).
     /// The caller takes pieces from the front of the batch and the helpers from the back, and
-    /// waits for the helpers' last pieces awake (yielding its core, at most
-    /// [`Engine::WAIT_AWAKE`]) before it sleeps: a batch that takes tens of microseconds is not
+    /// waits for the helpers' last pieces awake (spinning briefly, then yielding its core, at
+    /// most [`Engine::WAIT_AWAKE`]) before it sleeps: a batch that takes tens of microseconds is not
     /// lost to waking threads. Pieces are multiples of [`Engine::PIECE`] pairs; batches below
     /// [`Engine::MIN_PARALLEL`] pairs stay on the calling thread. Results are identical to the
     /// single-threaded ones. A system that refuses to start the helpers (out of threads) gets
@@ -638,8 +638,8 @@ struct Left<'a, T> {
 /// helper's jobs written on one core and read on the other (throwaway timestamps, `spin
 /// tri_tri arm_nearby f32 avx2fma 1 4000 2`, 2026-11-29, the AMD EPYC). Without that vector,
 /// with the driver's spare open-pair lists (`drv.rs`, `Pending`) and the caller's spinning
-/// wait ([`together`]): 143.7 -> 157.0 M/s on two threads, faster in 10 of 10 rounds alternated
-/// with the parent's binary (the machine noisy), and two threads over one 1.40-1.77x (median
+/// wait ([`together`]): 143.7 -> 157.0 M/s on two threads (medians), faster in 10 of 10 rounds
+/// alternated with the parent's binary (the machine noisy), and two threads over one 1.40-1.77x (median
 /// 1.59x) -> 1.54-1.80x (1.66x) in 8 rounds of both builds alternated; later, quieter,
 /// 1.69-1.81x (1.75x). Pieces shrinking towards the end (each a quarter of what was left,
 /// down to 256 pairs) were no better this time either: 1.63-1.89x (1.74x) in those 8 rounds.
