@@ -261,7 +261,7 @@ fn gap_lo<L: Lanes, const KA: usize, const KB: usize>(v: V3<L>, sa: [V3<L>; 2], 
 
 /// `x - y` as an unevaluated sum `hi + lo`, exactly.
 #[inline(always)]
-fn diff2<L: Lanes>(x: V3<L>, y: V3<L>) -> (V3<L>, V3<L>) {
+pub(super) fn diff2<L: Lanes>(x: V3<L>, y: V3<L>) -> (V3<L>, V3<L>) {
     let (hx, lx) = x.x.two_sum(y.x.neg());
     let (hy, ly) = x.y.two_sum(y.y.neg());
     let (hz, lz) = x.z.two_sum(y.z.neg());
@@ -271,7 +271,7 @@ fn diff2<L: Lanes>(x: V3<L>, y: V3<L>) -> (V3<L>, V3<L>) {
 /// `v . (dh + dl)` with a compensated dot product (Ogita, Rump & Oishi's Dot2): the error is
 /// at most `u |result|` plus terms of order `u^2 |v| |d|`.
 #[inline(always)]
-fn dot2<L: Lanes>(v: V3<L>, dh: V3<L>, dl: V3<L>) -> L {
+pub(super) fn dot2<L: Lanes>(v: V3<L>, dh: V3<L>, dl: V3<L>) -> L {
     let (px, ex) = v.x.two_prod(dh.x);
     let (py, ey) = v.y.two_prod(dh.y);
     let (pz, ez) = v.z.two_prod(dh.z);

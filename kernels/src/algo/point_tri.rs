@@ -3,6 +3,7 @@
 //! triple products of accurately rounded cross products; interior points projected along the
 //! accurate normal; degenerate triangles handled as the segments they are.
 
+use super::cert::{diff2, dot2};
 use super::seg_seg::point_segment;
 use super::{degenerate, finish, normal, scale_pair, Kernel, Out, Params, Res};
 use crate::lanes::{Cx, Lanes, Mask, V3};
@@ -92,11 +93,12 @@ pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) 
         // Interior: project x onto the plane along an accurately rounded normal instead of
         // rebuilding it from barycentric coordinates, which are ill-conditioned for thin
         // triangles (a point on a sliver came back 150 u S away; found by fuzzing).
-        // The offset `(x - a) . n` compensated (below): rounded as `ap . n`, its error grew
-        // with `|x - a|`, and the projection moved off the plane by up to 7.7 u S where `x` was
-        // 1.9 S from the triangle (found by the CI's fuzz smoke run: f32, S 2.8e-12, over the
-        // bound table's 7.5).
-        let h = offset(x, a, n).div(n.norm2().max(k.splat(L::S::MIN_POSITIVE)));
+        // The offset `(x - a) . n` compensated (the certificate's exact difference and Dot2):
+        // rounded as `ap . n`, its error grew with `|x - a|`, and the projection moved off the
+        // plane by up to 7.7 u S where `x` was 1.9 S from the triangle (found by the CI's fuzz
+        // smoke run: f32, S 2.8e-12, over the bound table's 7.5).
+        let (dh, dl) = diff2(x, a);
+        let h = dot2(n, dh, dl).div(n.norm2().max(k.splat(L::S::MIN_POSITIVE)));
         let proj = x.sub(n.scale(h));
         q = V3::select(done, q, proj);
     }
@@ -115,23 +117,4 @@ pub(crate) fn point_triangle<L: Lanes>(x: V3<L>, a: V3<L>, b: V3<L>, cv: V3<L>) 
         q = V3::select(deg, best, q);
     }
     Res { d: x.sub(q).norm2(), p: x, q }
-}
-
-/// `(x - a) . n` to within a few roundings of the result itself, not of `|x - a| |n|`: the
-/// differences' rounding errors (TwoSum) and the products' (TwoProduct) and partial sums'
-/// are carried to the end (Ogita, Rump and Oishi's compensated dot product). Input prescaled,
-/// `n` of unit magnitude.
-#[inline(always)]
-fn offset<L: Lanes>(x: V3<L>, a: V3<L>, n: V3<L>) -> L {
-    let (dx, ex) = x.x.two_sum(a.x.neg());
-    let (dy, ey) = x.y.two_sum(a.y.neg());
-    let (dz, ez) = x.z.two_sum(a.z.neg());
-    let (p1, e1) = dx.two_prod(n.x);
-    let (p2, e2) = dy.two_prod(n.y);
-    let (p3, e3) = dz.two_prod(n.z);
-    let (s, f1) = p1.two_sum(p2);
-    let (s, f2) = s.two_sum(p3);
-    let c = e1.add(e2).add(e3).add(f1).add(f2);
-    let c = ex.mul_add(n.x, ey.mul_add(n.y, ez.mul_add(n.z, c)));
-    s.add(c)
 }
