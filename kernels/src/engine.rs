@@ -297,7 +297,7 @@ pub struct Engine {
 }
 
 /// The environment variable that pins [`Engine::auto`] to one variant (`scalar`, `sse41`,
-/// `avx`, `avx2fma`, `avx512`), for tests and benchmarks. Read once per process.
+/// `avx`, `avx2fma`, `avx512vl`, `avx512`), for tests and benchmarks. Read once per process.
 pub const ISA_ENV: &str = "TRIDIST_ISA";
 
 // (checked when the crate compiles: pieces are whole chunks of the driver)
@@ -378,13 +378,15 @@ impl Engine {
     }
 
     /// The engine a mesh query runs its leaf batches and node tests on: this one, except that
-    /// [`Isa::Avx512`] runs [`Isa::Avx2Fma`] (bit for bit the same answers). A traversal's
+    /// [`Isa::Avx512`] runs [`Isa::Avx512Vl`] (bit for bit the same answers). A traversal's
     /// leaf batches hold a few pairs each, and 16-lane vectors were 3-5 % slower there
     /// (`TRIDIST_ISA=avx2fma|avx512 spin mesh distance|contacts|intersect 2|5|9 f32 1 1`,
     /// Armadillo against fandisk: distance at pose 9 0.376 against 0.386 ms, contacts at
-    /// pose 5 13.2 against 14.0 ms).
+    /// pose 5 13.2 against 14.0 ms); the 8 lanes of [`Isa::Avx2Fma`] with AVX-512VL's 32
+    /// registers were faster again (ARCHITECTURE.md, "Mesh queries").
     pub(crate) fn for_small_batches(&self) -> Engine {
         match self.isa {
+            Isa::Avx512 if Isa::Avx512Vl.is_available() => Engine { isa: Isa::Avx512Vl, ..*self },
             Isa::Avx512 if Isa::Avx2Fma.is_available() => Engine { isa: Isa::Avx2Fma, ..*self },
             _ => *self,
         }
@@ -733,14 +735,14 @@ pub(crate) fn par_map_init<I: Sync, St, R: Send>(
 /// with the two ends of [`run_pieces`] as well (`spin tri_tri arm_nearby f32 avx2fma 1 4000
 /// 1|2`, copies of each build alternated; the machine is shared and noisy).
 fn together(threads: usize, work: &(dyn Fn(bool) + Sync)) {
-    /// How long the caller's wait spins before it yields.
-    const SPIN: std::time::Duration = std::time::Duration::from_micros(10);
     if threads <= 1 {
         return work(true);
     }
     #[cfg(feature = "rayon")]
     {
         use std::sync::atomic::{AtomicUsize, Ordering};
+        /// How long the caller's wait spins before it yields.
+        const SPIN: std::time::Duration = std::time::Duration::from_micros(10);
         let done = AtomicUsize::new(0);
         let done = &done;
         let Some(pool) = pool(threads - 1) else {

@@ -28,7 +28,8 @@ pub enum Error {
     /// The variant is not supported by this CPU (or this target), or not compiled in
     /// ([`Isa::is_compiled`]).
     Unavailable(Isa),
-    /// A variant name that is not one of `scalar`, `sse41`, `avx`, `avx2fma`, `avx512`.
+    /// A variant name that is not one of `scalar`, `sse41`, `avx`, `avx2fma`, `avx512vl`,
+    /// `avx512`.
     UnknownIsa(String),
     /// An output the query does not compute was asked for: distances, closest points or
     /// intervals of [`Query::Intersect`], whose separating-axis test decides a verdict without
@@ -89,7 +90,7 @@ impl core::fmt::Display for Error {
             }
             Error::Unavailable(i) => write!(f, "variant {i} is not available on this CPU"),
             Error::UnknownIsa(s) => {
-                write!(f, "unknown variant {s:?} (expected scalar, sse41, avx, avx2fma or avx512)")
+                write!(f, "unknown variant {s:?} (expected scalar, sse41, avx, avx2fma, avx512vl or avx512)")
             }
             Error::NoSuchOutput { query, output } => write!(
                 f,

@@ -20,16 +20,25 @@ pub enum Isa {
     Avx,
     /// AVX2 + FMA: f32x8, f64x4, fused multiply-add in every dot product.
     Avx2Fma,
+    /// AVX-512 (F and VL) on 256-bit vectors: [`Isa::Avx2Fma`]'s f32x8 and f64x4, compiled with
+    /// the 32 vector registers that AVX-512's encoding (EVEX) gives 256-bit instructions, where
+    /// AVX2 has 16, so fewer values spill to the stack; bit for bit that variant's answers
+    /// (tested). On the AMD EPYC (Zen 4) of the reports it runs f32 batches that the quick stage
+    /// answers faster than [`Isa::Avx512`]'s 16 lanes (ARCHITECTURE.md, "Where the kernels'
+    /// time goes"); mesh queries on [`Isa::Avx512`] run their small leaf batches and node
+    /// tests on it. Compiled only with the crate feature `avx512vl` (default off: it adds about
+    /// a fifth to the build time; without it those run on [`Isa::Avx2Fma`]).
+    Avx512Vl,
     /// AVX-512 (F, with AVX2 and FMA): f32x16, f64x8, fused like [`Isa::Avx2Fma`], so every
     /// answer is bit for bit that variant's (tested); only the lane count differs. (Mesh
     /// queries on this variant run their small leaf batches and node tests on
-    /// [`Isa::Avx2Fma`]: 16 lanes were slower there.)
+    /// [`Isa::Avx512Vl`]: 16 lanes were slower there.)
     Avx512,
 }
 
 impl Isa {
     /// Every variant, slowest first.
-    pub const ALL: [Isa; 5] = [Isa::Scalar, Isa::Sse41, Isa::Avx, Isa::Avx2Fma, Isa::Avx512];
+    pub const ALL: [Isa; 6] = [Isa::Scalar, Isa::Sse41, Isa::Avx, Isa::Avx2Fma, Isa::Avx512Vl, Isa::Avx512];
 
     /// Short name used by the CLI, the reports and `TRIDIST_ISA`.
     pub fn name(self) -> &'static str {
@@ -38,6 +47,7 @@ impl Isa {
             Isa::Sse41 => "sse41",
             Isa::Avx => "avx",
             Isa::Avx2Fma => "avx2fma",
+            Isa::Avx512Vl => "avx512vl",
             Isa::Avx512 => "avx512",
         }
     }
@@ -52,7 +62,7 @@ impl Isa {
         let wide = match self {
             Isa::Scalar => return 1,
             Isa::Sse41 => 16,
-            Isa::Avx | Isa::Avx2Fma => 32,
+            Isa::Avx | Isa::Avx2Fma | Isa::Avx512Vl => 32,
             Isa::Avx512 => 64,
         };
         wide / core::mem::size_of::<T>()
@@ -63,10 +73,14 @@ impl Isa {
         self.is_compiled() && detected()[self as usize]
     }
 
-    /// Is the variant compiled into this build? Every variant except [`Isa::Avx`], which needs
-    /// the crate feature `avx`.
+    /// Is the variant compiled into this build? Every variant except [`Isa::Avx`] and
+    /// [`Isa::Avx512Vl`], which need the crate features `avx` and `avx512vl`.
     pub const fn is_compiled(self) -> bool {
-        !matches!(self, Isa::Avx) || cfg!(feature = "avx")
+        match self {
+            Isa::Avx => cfg!(feature = "avx"),
+            Isa::Avx512Vl => cfg!(feature = "avx512vl"),
+            _ => true,
+        }
     }
 
     /// The fastest available variant.
@@ -81,8 +95,8 @@ impl core::fmt::Display for Isa {
     }
 }
 
-fn detected() -> &'static [bool; 5] {
-    static D: OnceLock<[bool; 5]> = OnceLock::new();
+fn detected() -> &'static [bool; 6] {
+    static D: OnceLock<[bool; 6]> = OnceLock::new();
     D.get_or_init(|| {
         #[cfg(target_arch = "x86_64")]
         {
@@ -91,11 +105,12 @@ fn detected() -> &'static [bool; 5] {
             let avx2fma =
                 avx && std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma");
             let avx512 = avx2fma && std::is_x86_feature_detected!("avx512f");
-            [true, sse, avx, avx2fma, avx512]
+            let avx512vl = avx512 && std::is_x86_feature_detected!("avx512vl");
+            [true, sse, avx, avx2fma, avx512vl, avx512]
         }
         #[cfg(not(target_arch = "x86_64"))]
         {
-            [true, false, false, false, false]
+            [true, false, false, false, false, false]
         }
     })
 }
@@ -199,6 +214,13 @@ macro_rules! run_for {
                     Some(k) => k.$fname($($a),*),
                     None => Portable.$fname($($a),*),
                 },
+                #[cfg(all(target_arch = "x86_64", feature = "avx512vl"))]
+                Isa::Avx512Vl => match crate::arch::x86_simd::Avx512Vl::detect() {
+                    Some(k) => k.$fname($($a),*),
+                    None => Portable.$fname($($a),*),
+                },
+                #[cfg(all(target_arch = "x86_64", not(feature = "avx512vl")))]
+                Isa::Avx512Vl => Portable.$fname($($a),*),
                 #[cfg(target_arch = "x86_64")]
                 Isa::Avx512 => match crate::arch::x86_simd::Avx512::detect() {
                     Some(k) => k.$fname($($a),*),

@@ -233,24 +233,30 @@ fn isa_selection() {
     assert_eq!(Isa::Sse41.lanes::<f64>(), 2);
     assert_eq!(Isa::Avx512.lanes::<f32>(), 16);
     assert_eq!(Isa::Avx512.lanes::<f64>(), 8);
+    assert_eq!(Isa::Avx512Vl.lanes::<f32>(), 8);
+    assert_eq!(Isa::Avx512Vl.lanes::<f64>(), 4);
     // AVX-512 implies AVX2+FMA (its entry points enable them, and mesh queries hand their small
-    // leaf batches to that variant)
+    // leaf batches to AVX-512VL, or to AVX2+FMA on a CPU without VL), and AVX-512VL implies both
     assert!(!Isa::Avx512.is_available() || Isa::Avx2Fma.is_available());
+    assert!(!Isa::Avx512Vl.is_available() || (Isa::Avx512.is_available() && Isa::Avx2Fma.is_available()));
 }
 
-/// The AVX-without-FMA variant exists only with the `avx` feature (`cargo test -p tridist`
-/// builds without it, the workspace with it): without, it is never picked and asking for it
-/// says which feature to enable.
+/// The AVX-without-FMA and AVX-512VL variants exist only with the `avx` and `avx512vl`
+/// features (`cargo test -p tridist` builds without them, the workspace with them): without,
+/// they are never picked and asking for one says which feature to enable.
 #[test]
-fn avx_variant_follows_its_feature() {
+fn feature_gated_variants_follow_their_features() {
     assert_eq!(Isa::Avx.is_compiled(), cfg!(feature = "avx"));
-    assert!(Isa::ALL.iter().all(|i| *i == Isa::Avx || i.is_compiled()));
-    if !Isa::Avx.is_compiled() {
-        assert!(!Isa::Avx.is_available());
-        assert_ne!(Isa::best(), Isa::Avx);
-        let err = Engine::new(Isa::Avx).unwrap_err();
-        assert_eq!(err, Error::Unavailable(Isa::Avx));
-        assert!(err.to_string().contains("enable the `avx` feature"), "{err}");
+    assert_eq!(Isa::Avx512Vl.is_compiled(), cfg!(feature = "avx512vl"));
+    assert!(Isa::ALL.iter().all(|i| matches!(i, Isa::Avx | Isa::Avx512Vl) || i.is_compiled()));
+    for isa in [Isa::Avx, Isa::Avx512Vl] {
+        if !isa.is_compiled() {
+            assert!(!isa.is_available());
+            assert_ne!(Isa::best(), isa);
+            let err = Engine::new(isa).unwrap_err();
+            assert_eq!(err, Error::Unavailable(isa));
+            assert!(err.to_string().contains(&format!("enable the `{}` feature", isa.name())), "{err}");
+        }
     }
 }
 

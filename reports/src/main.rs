@@ -239,7 +239,8 @@ pub(crate) fn parse_variant(s: &str) -> Result<Variant, String> {
         // (a run under valgrind with TRIDIST_ISA=avx2fma must not meet AVX-512)
         return Variant::auto().map_err(|e| format!("{}: {e}", tridist::ISA_ENV));
     }
-    Variant::parse(s).ok_or_else(|| "unknown variant (scalar, soa, sse41, avx, avx2fma, avx512, auto)".into())
+    Variant::parse(s)
+        .ok_or_else(|| "unknown variant (scalar, soa, sse41, avx, avx2fma, avx512vl, avx512, auto)".into())
 }
 
 fn parse_peer(s: &str) -> Result<Lib, String> {

@@ -838,13 +838,14 @@ fn throughput_md(s: &Settings, seed: u64, m: &Measured) -> String {
         t,
         "\n## Ratios (random unit cube, tri-tri unless named)\n\n| comparison | f32 | f64 |\n|---|---|---|"
     );
-    let comps: [(&str, &str, &str); 6] = [
+    let comps: [(&str, &str, &str); 7] = [
         ("AVX2+FMA vs scalar AoS", "avx2fma", "scalar"),
         ("AVX2+FMA vs SSE4.1", "avx2fma", "sse41"),
         ("AVX (no FMA) vs SSE4.1", "avx", "sse41"),
         ("AVX2+FMA vs AVX (FMA effect)", "avx2fma", "avx"),
         ("scalar SoA vs scalar AoS (layout)", "soa", "scalar"),
         ("AVX-512 vs AVX2+FMA (16/8 lanes against 8/4)", "avx512", "avx2fma"),
+        ("AVX-512VL vs AVX2+FMA (32 registers against 16)", "avx512vl", "avx2fma"),
     ];
     for (label, x, y) in comps {
         let r = |p| ratio(q1(thr, rw, Query::TriTri, x, p), q1(thr, rw, Query::TriTri, y, p));

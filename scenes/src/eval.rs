@@ -26,14 +26,23 @@ pub enum Variant {
     Avx,
     /// AVX2 + FMA over SoA.
     Avx2Fma,
+    /// AVX-512VL over SoA: AVX2 + FMA's 256-bit vectors with 32 registers (fused).
+    Avx512Vl,
     /// AVX-512 over SoA (fused, as AVX2 + FMA).
     Avx512,
 }
 
 impl Variant {
     /// Every variant.
-    pub const ALL: [Variant; 6] =
-        [Variant::Scalar, Variant::Soa, Variant::Sse41, Variant::Avx, Variant::Avx2Fma, Variant::Avx512];
+    pub const ALL: [Variant; 7] = [
+        Variant::Scalar,
+        Variant::Soa,
+        Variant::Sse41,
+        Variant::Avx,
+        Variant::Avx2Fma,
+        Variant::Avx512Vl,
+        Variant::Avx512,
+    ];
     /// Short name.
     pub fn name(self) -> &'static str {
         match self {
@@ -42,6 +51,7 @@ impl Variant {
             Variant::Sse41 => "sse41",
             Variant::Avx => "avx",
             Variant::Avx2Fma => "avx2fma",
+            Variant::Avx512Vl => "avx512vl",
             Variant::Avx512 => "avx512",
         }
     }
@@ -62,6 +72,7 @@ impl Variant {
             Variant::Sse41 => Isa::Sse41,
             Variant::Avx => Isa::Avx,
             Variant::Avx2Fma => Isa::Avx2Fma,
+            Variant::Avx512Vl => Isa::Avx512Vl,
             Variant::Avx512 => Isa::Avx512,
         }
     }
@@ -72,6 +83,7 @@ impl Variant {
             Isa::Sse41 => Variant::Sse41,
             Isa::Avx => Variant::Avx,
             Isa::Avx2Fma => Variant::Avx2Fma,
+            Isa::Avx512Vl => Variant::Avx512Vl,
             Isa::Avx512 => Variant::Avx512,
         }
     }
@@ -81,7 +93,7 @@ impl Variant {
     }
     /// Does it fuse multiply-adds (different rounding from the unfused variants)?
     pub fn fused(self) -> bool {
-        matches!(self, Variant::Avx2Fma | Variant::Avx512)
+        matches!(self, Variant::Avx2Fma | Variant::Avx512Vl | Variant::Avx512)
     }
     /// The engine (default tolerance).
     ///

@@ -5,7 +5,7 @@
 //! differently shaped operations (bit-mask blend, bitwise ops of floats) are supplied as small
 //! wrappers in that shape, and its lane compaction uses the hardware gather.
 //!
-//! Soundness, by construction: a token (`Sse41`, `Avx`, `Avx2Fma`, `Avx512`) has a private field and is
+//! Soundness, by construction: a token (`Sse41`, `Avx`, `Avx2Fma`, `Avx512Vl`, `Avx512`) has a private field and is
 //! made only by `detect()`, after runtime detection found its features. Every vector and mask
 //! value carries its token (a zero-sized field) and every way to make one from nothing takes a
 //! token, so holding a value proves the CPU runs its instructions: each `unsafe` intrinsic call
@@ -35,6 +35,10 @@ pub(crate) struct Avx(());
 /// Proof that AVX2 and FMA (and AVX) are available.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Avx2Fma(());
+/// Proof that AVX-512F and AVX-512VL (and AVX2, FMA, AVX) are available.
+#[cfg(feature = "avx512vl")]
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Avx512Vl(());
 /// Proof that AVX-512F (and AVX2, FMA, AVX) are available.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Avx512(());
@@ -56,6 +60,13 @@ impl Avx2Fma {
     /// A token when this CPU has AVX, AVX2 and FMA (cached detection).
     pub(crate) fn detect() -> Option<Self> {
         Isa::Avx2Fma.is_available().then_some(Avx2Fma(()))
+    }
+}
+#[cfg(feature = "avx512vl")]
+impl Avx512Vl {
+    /// A token when this CPU has AVX-512F, AVX-512VL, AVX2 and FMA (cached detection).
+    pub(crate) fn detect() -> Option<Self> {
+        Isa::Avx512Vl.is_available().then_some(Avx512Vl(()))
     }
 }
 impl Avx512 {
@@ -81,6 +92,12 @@ impl HasAvx for Avx {
     const AVX2: bool = false;
 }
 impl HasAvx for Avx2Fma {
+    const FMA: bool = true;
+    const AVX2: bool = true;
+}
+/// (AVX-512VL's entry points are the 256-bit types with 32 registers.)
+#[cfg(feature = "avx512vl")]
+impl HasAvx for Avx512Vl {
     const FMA: bool = true;
     const AVX2: bool = true;
 }
@@ -792,6 +809,20 @@ mod avx2fma {
         (F64x4<Avx2Fma>)
     );
 }
+/// [`Avx2Fma`]'s vector types with AVX-512VL enabled: the same intrinsics, encoded with EVEX
+/// where that helps, so the compiler has 32 vector registers instead of 16 (`Isa::Avx512Vl`).
+#[cfg(feature = "avx512vl")]
+mod avx512vl {
+    use super::*;
+    for_each_query!(
+        simd_entries,
+        (Avx512Vl),
+        ("avx512f,avx512vl,avx2,fma"),
+        (F32x8<Avx512Vl>),
+        (F64x4<Avx512Vl>),
+        (F64x4<Avx512Vl>)
+    );
+}
 mod avx512 {
     use super::*;
     for_each_query!(
@@ -842,6 +873,11 @@ mod tests {
             if let Some(k) = Avx2Fma::detect() {
                 $check::<F32x8<Avx2Fma>>(k);
                 $check::<F64x4<Avx2Fma>>(k);
+            }
+            #[cfg(feature = "avx512vl")]
+            if let Some(k) = Avx512Vl::detect() {
+                $check::<F32x8<Avx512Vl>>(k);
+                $check::<F64x4<Avx512Vl>>(k);
             }
             if let Some(k) = Avx512::detect() {
                 $check::<F32x16<Avx512>>(k);
