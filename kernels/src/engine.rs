@@ -383,7 +383,7 @@ impl Engine {
     /// (`TRIDIST_ISA=avx2fma|avx512 spin mesh distance|contacts|intersect 2|5|9 f32 1 1`,
     /// Armadillo against fandisk: distance at pose 9 0.376 against 0.386 ms, contacts at
     /// pose 5 13.2 against 14.0 ms); the 8 lanes of [`Isa::Avx2Fma`] with AVX-512VL's 32
-    /// registers were faster again (ARCHITECTURE.md, "Mesh queries").
+    /// registers were faster again (ARCHITECTURE.md, "The same 8 lanes with 32 registers").
     pub(crate) fn for_small_batches(&self) -> Engine {
         match self.isa {
             Isa::Avx512 if Isa::Avx512Vl.is_available() => Engine { isa: Isa::Avx512Vl, ..*self },

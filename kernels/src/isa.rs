@@ -32,7 +32,8 @@ pub enum Isa {
     /// AVX-512 (F, with AVX2 and FMA): f32x16, f64x8, fused like [`Isa::Avx2Fma`], so every
     /// answer is bit for bit that variant's (tested); only the lane count differs. (Mesh
     /// queries on this variant run their small leaf batches and node tests on
-    /// [`Isa::Avx512Vl`]: 16 lanes were slower there.)
+    /// [`Isa::Avx512Vl`], or on [`Isa::Avx2Fma`] without that feature: 16 lanes were slower
+    /// there.)
     Avx512,
 }
 
