@@ -390,10 +390,10 @@ fn rows<T: Peer + Real>(
 const SCALING_ROUNDS: usize = 5;
 
 /// The contact query at one pose on one thread, on two threads, and as two independent
-/// one-thread workers running it at once (the machine's ceiling at that moment), measured in
-/// turn, [`SCALING_ROUNDS`] rounds of at least 250 ms each (so that the machine's drift falls
-/// on all three alike): the medians of two threads' speed and of the two workers' combined
-/// speed, over one thread's.
+/// one-thread workers running it at once (the machine's ceiling at that moment), in
+/// [`SCALING_ROUNDS`] rounds: one and two threads call by call ([`alternated`], at least 375
+/// ms), then the two workers (at least 250 ms). The medians of the rounds' two-thread speed
+/// and of the two workers' combined speed, over one thread's.
 fn contact_scaling<T: Real>(
     e: &Engine,
     a: &Mesh<T>,
@@ -405,26 +405,27 @@ fn contact_scaling<T: Real>(
     let budget = budget.max(Duration::from_millis(250));
     let id = Pose::<T>::identity();
     let run = |e: &Engine| e.mesh_contacts(a, &id, b, pose, margin, None).is_ok();
+    let (one_thread, two_threads) = (e.threads(1), e.threads(2));
     let (mut two, mut apart) = (Vec::new(), Vec::new());
     for _ in 0..SCALING_ROUNDS {
-        let one = median_time(
-            || {
-                run(&e.threads(1));
-            },
-            budget,
-        );
-        two.push(
-            one / median_time(
-                || {
-                    run(&e.threads(2));
+        // one and two threads call by call ([`alternated`], within half the budget), so that a
+        // noisy moment of the shared machine falls on both (timed in turn, 250 ms of one then
+        // 250 ms of the other, the rounds of one report run ranged over 1.57x-1.97x)
+        let [one, both] = alternated(
+            [
+                &mut || {
+                    run(&one_thread);
                 },
-                budget,
-            ),
+                &mut || {
+                    run(&two_threads);
+                },
+            ],
+            budget / 2,
         );
+        two.push(one / both);
         // two workers, each calling the one-thread query until the budget is spent (NaN,
         // printed "-", if a call fails)
-        let single = e.threads(1);
-        let calls = crate::common::two_workers(budget, || (), |_| run(&single));
+        let calls = crate::common::two_workers(budget, || (), |_| run(&one_thread));
         apart.push(calls.map_or(f64::NAN, |c| c * one));
     }
     Scaling { two: crate::common::median(two), apart: crate::common::median(apart) }
@@ -773,7 +774,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         means.push((sum_t / n, sum_fcl / n, sum_ti / n, sum_fcl_i / n, parry_ratio / n, deep));
         ceilings.push(ratio(ceiling, 2));
     }
-    let _ = writeln!(t, "Contacts on two threads: `Engine::threads(2)`, the traversal split into pieces walked in parallel and the contacts sorted in parallel (same contacts, same order); per pose, one and two threads measured alternately, three rounds, medians. The summary's figure at the pose with the most contacts is measured again, {SCALING_ROUNDS} rounds of at least 250 ms per measurement: one thread, two threads, and, as the machine's ceiling at that moment, two independent one-thread workers running the query at once (their combined speed over one thread's; this machine's two cores are shared, so that ceiling is below 2x when other work runs), medians.\n");
+    let _ = writeln!(t, "Contacts on two threads: `Engine::threads(2)`, the traversal split into pieces walked in parallel and the contacts sorted in parallel (same contacts, same order); per pose, one and two threads measured alternately, three rounds, medians. The summary's figure at the pose with the most contacts is measured again in {SCALING_ROUNDS} rounds, each of one- and two-thread calls alternated call by call (at least 375 ms), then, as the machine's ceiling at that moment, two independent one-thread workers running the query at once for at least 250 ms (their combined speed over one thread's; this machine's two cores are shared, so that ceiling is below 2x when other work runs), medians.\n");
     let near = near_rows(&a, &b, s.budget, s.mesh_poses, seed)?;
     let near_summary = near_md(&mut t, &near);
     shapes_sections(&mut t, &a, &b, s, &near.iter().map(|r| r.pose).collect::<Vec<_>>())?;
