@@ -80,7 +80,7 @@ impl Isa {
         match self {
             Isa::Avx => cfg!(feature = "avx"),
             Isa::Avx512Vl => cfg!(feature = "avx512vl"),
-            _ => true,
+            Isa::Scalar | Isa::Sse41 | Isa::Avx2Fma | Isa::Avx512 => true,
         }
     }
 
@@ -191,6 +191,17 @@ mod portable {
     for_each_query!(portable_entries);
 }
 
+/// The token method `$fname` on the token that runtime detection gives for `$tok` (one cached
+/// load), or on the portable code when this CPU lacks it.
+macro_rules! on_detected {
+    ($tok:ty, $fname:ident, $($a:ident),*) => {
+        match <$tok>::detect() {
+            Some(k) => k.$fname($($a),*),
+            None => Portable.$fname($($a),*),
+        }
+    };
+}
+
 macro_rules! run_for {
     ($fname:ident, $($a:ident: $ty:ty),*) => {
         /// Runs the token method of the same name on `isa` with a token from runtime detection
@@ -199,34 +210,19 @@ macro_rules! run_for {
             match isa {
                 Isa::Scalar => Portable.$fname($($a),*),
                 #[cfg(target_arch = "x86_64")]
-                Isa::Sse41 => match crate::arch::x86_simd::Sse41::detect() {
-                    Some(k) => k.$fname($($a),*),
-                    None => Portable.$fname($($a),*),
-                },
+                Isa::Sse41 => on_detected!(crate::arch::x86_simd::Sse41, $fname, $($a),*),
                 #[cfg(all(target_arch = "x86_64", feature = "avx"))]
-                Isa::Avx => match crate::arch::x86_simd::Avx::detect() {
-                    Some(k) => k.$fname($($a),*),
-                    None => Portable.$fname($($a),*),
-                },
+                Isa::Avx => on_detected!(crate::arch::x86_simd::Avx, $fname, $($a),*),
                 #[cfg(all(target_arch = "x86_64", not(feature = "avx")))]
                 Isa::Avx => Portable.$fname($($a),*),
                 #[cfg(target_arch = "x86_64")]
-                Isa::Avx2Fma => match crate::arch::x86_simd::Avx2Fma::detect() {
-                    Some(k) => k.$fname($($a),*),
-                    None => Portable.$fname($($a),*),
-                },
+                Isa::Avx2Fma => on_detected!(crate::arch::x86_simd::Avx2Fma, $fname, $($a),*),
                 #[cfg(all(target_arch = "x86_64", feature = "avx512vl"))]
-                Isa::Avx512Vl => match crate::arch::x86_simd::Avx512Vl::detect() {
-                    Some(k) => k.$fname($($a),*),
-                    None => Portable.$fname($($a),*),
-                },
+                Isa::Avx512Vl => on_detected!(crate::arch::x86_simd::Avx512Vl, $fname, $($a),*),
                 #[cfg(all(target_arch = "x86_64", not(feature = "avx512vl")))]
                 Isa::Avx512Vl => Portable.$fname($($a),*),
                 #[cfg(target_arch = "x86_64")]
-                Isa::Avx512 => match crate::arch::x86_simd::Avx512::detect() {
-                    Some(k) => k.$fname($($a),*),
-                    None => Portable.$fname($($a),*),
-                },
+                Isa::Avx512 => on_detected!(crate::arch::x86_simd::Avx512, $fname, $($a),*),
                 #[cfg(not(target_arch = "x86_64"))]
                 _ => Portable.$fname($($a),*),
             }
