@@ -324,7 +324,7 @@ impl<T: Real> Lane<T> {
 /// does not allocate and free a list per batch: two threads on 4000 nearby Armadillo pairs
 /// 160.3 -> 175.0 M/s (medians of 8 rounds alternated, faster in 6; `spin tri_tri arm_nearby
 /// f32 avx2fma 1 4000 2`, 2026-11-29, the AMD EPYC, noisy).
-struct Pending<T> {
+pub(crate) struct Pending<T> {
     idx: Vec<u32>,
     ans: Vec<[T; 7]>,
 }
@@ -446,13 +446,17 @@ pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
         if K::RECERT && !open.is_empty() {
             job.counts.recertified += open.len() as u64;
             still.clear();
-            recert::<L, K>(kk, job, &open, &mut still);
+            // out of line, in an entry point of its own ([`recert`])
+            debug_assert_eq!((job.a.k(), job.b.k()), (K::KA, K::KB));
+            <L::S as crate::real::sealed::Sealed>::recert_with(kk, job, &open, &mut still, K::SHARP);
             std::mem::swap(&mut open, &mut still);
         }
         if K::STAGES == 3 && !open.is_empty() {
+            // out of line, in an entry point of its own ([`accurate`])
+            debug_assert_eq!(job.query, Query::TriTri, "the accurate stage is triangle-triangle distance's");
             job.counts.compacted += open.len() as u64;
             still.clear();
-            pass::<L, K, 2>(kk, job, 0, 0, Some(open.as_slice()), &mut still, false);
+            <L::S as crate::real::sealed::Sealed>::accurate_with(kk, job, &open, &mut still);
             std::mem::swap(&mut open, &mut still);
         }
         if !open.is_empty() {
@@ -460,6 +464,25 @@ pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
         }
         start = end;
     }
+}
+
+/// The accurate stage of triangle-triangle distance (PQP's TriDist, stage 2 of
+/// [`crate::algo::pqp::TriTri`]) on the `open` pairs, gathered into full vectors; the pairs it
+/// does not accept go to `still`. A rare path (the pairs that neither fast stage nor the tight
+/// re-certification accepts), which [`run`] reaches through its token
+/// ([`crate::isa::Token::accurate_f32`]): an entry point of its own per instruction set and
+/// precision (`crate::isa::rare_modules`), not inlined into the query's. Out of line, this
+/// stage and [`recert`] halved the kernels crate's release build (ARCHITECTURE.md,
+/// "Compile-time budget"); the headline workloads' speed did not move, since they reach these
+/// paths once per chunk at most.
+#[inline(always)]
+pub(crate) fn accurate<L: Lanes>(
+    kk: L::K,
+    job: &mut Job<'_, L::S>,
+    open: &Pending<L::S>,
+    still: &mut Pending<L::S>,
+) {
+    pass::<L, crate::algo::pqp::TriTri, 2>(kk, job, 0, 0, Some(open.as_slice()), still, false);
 }
 
 /// Runs stage `ST` of `K` on pairs `start..end` (or on `idx`, gathered), writes every pair's
@@ -641,21 +664,28 @@ fn lane_of<T: Real>(buf: &[&[T]; 10], ok: u32, l: usize) -> Lane<T> {
     }
 }
 
-/// The tight re-certification of the `open` pairs' answers (gathered into full vectors).
+/// The tight re-certification of the `open` pairs' answers (gathered into full vectors), for
+/// primitives of `job`'s arity (every query with `Kernel::RECERT`: triangle-triangle distance
+/// and its brute force, segment-segment and point-triangle); `sharp` is the kernel's
+/// `Kernel::SHARP`. Out of line like [`accurate`], through
+/// [`crate::isa::Token::recert_f32`]: one entry point per instruction set and precision for
+/// all three arities, where every query's entry point had inlined a copy of its own.
 #[inline(always)]
-fn recert<L: Lanes, K: Kernel>(
+pub(crate) fn recert<L: Lanes>(
     kk: L::K,
     job: &mut Job<'_, L::S>,
     open: &Pending<L::S>,
     still: &mut Pending<L::S>,
+    sharp: bool,
 ) {
+    let (ka, kb) = (job.a.k(), job.b.k());
     let ix = open.as_slice();
     debug_assert_eq!(open.ans.len(), ix.len(), "re-certification of pairs pushed without their answers");
     let only_d = job.sink.only_d();
     for g in 0..ix.len().div_ceil(L::N) {
         let (lo, hi) = (g * L::N, ((g + 1) * L::N).min(ix.len()));
         let part = &ix[lo..hi];
-        let (a, b) = (job.a.gather::<L>(K::KA, kk, part), job.b.gather::<L>(K::KB, kk, part));
+        let (a, b) = (job.a.gather::<L>(ka, kk, part), job.b.gather::<L>(kb, kk, part));
         let mut cols = [[L::S::ZERO; MAX_LANES]; 7];
         for l in 0..L::N {
             let ans = &open.ans[lo + l.min(part.len() - 1)];
@@ -669,10 +699,10 @@ fn recert<L: Lanes, K: Kernel>(
             *x = L::load(kk, col);
         }
         let (d, p, q) = (v[0], V3::new(v[1], v[2], v[3]), V3::new(v[4], v[5], v[6]));
-        let o = match (K::KA, K::KB) {
-            (2, 2) => crate::algo::recertify::<L, 2, 2>(&a, &b, d, p, q, &job.prm, K::SHARP),
-            (1, 3) => crate::algo::recertify::<L, 1, 3>(&a, &b, d, p, q, &job.prm, K::SHARP),
-            _ => crate::algo::recertify::<L, 3, 3>(&a, &b, d, p, q, &job.prm, K::SHARP),
+        let o = match (ka, kb) {
+            (2, 2) => crate::algo::recertify::<L, 2, 2>(&a, &b, d, p, q, &job.prm, sharp),
+            (1, 3) => crate::algo::recertify::<L, 1, 3>(&a, &b, d, p, q, &job.prm, sharp),
+            _ => crate::algo::recertify::<L, 3, 3>(&a, &b, d, p, q, &job.prm, sharp),
         };
         write::<L>(job, &o, Ids::Gathered(part), still, (false, only_d));
     }

@@ -4,7 +4,7 @@
 use std::sync::OnceLock;
 
 use crate::algo::nodes::{Columns, Gaps, NodeTest};
-use crate::drv::Job;
+use crate::drv::{Job, Pending};
 use crate::query::{for_each_query, Query};
 
 /// An instruction-set variant. Every variant runs the same algorithms (written once over a lane
@@ -124,6 +124,16 @@ pub(crate) trait Token: Copy + 'static {
     fn run_f32(self, job: &mut Job<'_, f32>);
     /// Runs an f64 job on this instruction set.
     fn run_f64(self, job: &mut Job<'_, f64>);
+    /// The accurate stage of triangle-triangle distance on an f32 job's open pairs
+    /// ([`crate::drv::accurate`]), in an entry point of its own ([`rare_modules`]).
+    fn accurate_f32(self, job: &mut Job<'_, f32>, open: &Pending<f32>, still: &mut Pending<f32>);
+    /// The same for an f64 job.
+    fn accurate_f64(self, job: &mut Job<'_, f64>, open: &Pending<f64>, still: &mut Pending<f64>);
+    /// The tight re-certification of an f32 job's open pairs ([`crate::drv::recert`]), in an
+    /// entry point of its own ([`rare_modules`]).
+    fn recert_f32(self, job: &mut Job<'_, f32>, open: &Pending<f32>, still: &mut Pending<f32>, sharp: bool);
+    /// The same for an f64 job.
+    fn recert_f64(self, job: &mut Job<'_, f64>, open: &Pending<f64>, still: &mut Pending<f64>, sharp: bool);
     /// The mesh traversal's node test on this instruction set ([`crate::algo::nodes::gaps`]).
     fn node_gaps(self, t: &NodeTest<'_>, out: &mut Gaps);
     /// The mesh traversal's moved node bounds on this instruction set
@@ -162,10 +172,77 @@ macro_rules! entry_modules {
 }
 pub(crate) use entry_modules;
 
+/// The entry points of the rare paths, the accurate stage (`acc32::run`, `acc64::run`) and the
+/// tight re-certification (`rc32::run`, `rc64::run`) of one instruction set, each in a module
+/// of its own like [`entry_modules`]. Inlined into every query's entry point, these paths made
+/// those functions so large that the optimiser's cost grew faster than their size (the stack
+/// slots' promotion, ARCHITECTURE.md "Compile-time budget"): out of line, the kernels crate's
+/// release build took half the CPU time. Two default-off variants run them on the variant
+/// whose bits they share instead of compiling their own (AVX on SSE4.1's, AVX-512VL on
+/// AVX2+FMA's; `crate::arch::x86_simd`'s `simd_entries`): every lane type evaluates the same
+/// operations in the same order, and a lane's bits do not depend on the lane count
+/// (`scenes/tests/bit_identity.rs`), so the answers are bit for bit their own.
+macro_rules! rare_modules {
+    ($tok:ty, $attr:meta, $l32:ty, $l64:ty) => {
+        mod acc32 {
+            use super::*;
+            #[$attr]
+            pub(super) fn run(
+                k: $tok,
+                job: &mut Job<'_, f32>,
+                open: &Pending<f32>,
+                still: &mut Pending<f32>,
+            ) {
+                crate::drv::accurate::<$l32>(k, job, open, still)
+            }
+        }
+        mod acc64 {
+            use super::*;
+            #[$attr]
+            pub(super) fn run(
+                k: $tok,
+                job: &mut Job<'_, f64>,
+                open: &Pending<f64>,
+                still: &mut Pending<f64>,
+            ) {
+                crate::drv::accurate::<$l64>(k, job, open, still)
+            }
+        }
+        mod rc32 {
+            use super::*;
+            #[$attr]
+            pub(super) fn run(
+                k: $tok,
+                job: &mut Job<'_, f32>,
+                open: &Pending<f32>,
+                still: &mut Pending<f32>,
+                sharp: bool,
+            ) {
+                crate::drv::recert::<$l32>(k, job, open, still, sharp)
+            }
+        }
+        mod rc64 {
+            use super::*;
+            #[$attr]
+            pub(super) fn run(
+                k: $tok,
+                job: &mut Job<'_, f64>,
+                open: &Pending<f64>,
+                still: &mut Pending<f64>,
+                sharp: bool,
+            ) {
+                crate::drv::recert::<$l64>(k, job, open, still, sharp)
+            }
+        }
+    };
+}
+pub(crate) use rare_modules;
+
 macro_rules! portable_entries {
     ([] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
         entry_modules!(p32, f32, Portable, inline(never), f32, $($v, $m::$k;)*);
         entry_modules!(p64, f64, Portable, inline(never), f64, $($v, $m::$k;)*);
+        rare_modules!(Portable, inline(never), f32, f64);
         impl Token for Portable {
             fn run_f32(self, job: &mut Job<'_, f32>) {
                 match job.query {
@@ -176,6 +253,18 @@ macro_rules! portable_entries {
                 match job.query {
                     $(Query::$v => p64::$v::run(self, job),)*
                 }
+            }
+            fn accurate_f32(self, job: &mut Job<'_, f32>, open: &Pending<f32>, still: &mut Pending<f32>) {
+                acc32::run(self, job, open, still)
+            }
+            fn accurate_f64(self, job: &mut Job<'_, f64>, open: &Pending<f64>, still: &mut Pending<f64>) {
+                acc64::run(self, job, open, still)
+            }
+            fn recert_f32(self, job: &mut Job<'_, f32>, open: &Pending<f32>, still: &mut Pending<f32>, sharp: bool) {
+                rc32::run(self, job, open, still, sharp)
+            }
+            fn recert_f64(self, job: &mut Job<'_, f64>, open: &Pending<f64>, still: &mut Pending<f64>, sharp: bool) {
+                rc64::run(self, job, open, still, sharp)
             }
             fn node_gaps(self, t: &NodeTest<'_>, out: &mut Gaps) {
                 crate::algo::nodes::gaps::<f64>(self, t, out)

@@ -69,6 +69,23 @@ pub(crate) mod sealed {
         ) -> crate::drv::Lane<Self>;
         /// Runs a batch job with a capability token (escalation sub-jobs).
         fn run_with<K: crate::isa::Token>(k: K, job: &mut crate::drv::Job<'_, Self>);
+        /// Runs the accurate stage of triangle-triangle distance on a job's open pairs with a
+        /// capability token ([`crate::drv::accurate`]).
+        fn accurate_with<K: crate::isa::Token>(
+            k: K,
+            job: &mut crate::drv::Job<'_, Self>,
+            open: &crate::drv::Pending<Self>,
+            still: &mut crate::drv::Pending<Self>,
+        );
+        /// Runs the tight re-certification of a job's open pairs with a capability token
+        /// ([`crate::drv::recert`]).
+        fn recert_with<K: crate::isa::Token>(
+            k: K,
+            job: &mut crate::drv::Job<'_, Self>,
+            open: &crate::drv::Pending<Self>,
+            still: &mut crate::drv::Pending<Self>,
+            sharp: bool,
+        );
         /// The next value toward -inf (toward +inf when `up`); identity on inf and NaN.
         fn step(self, up: bool) -> Self {
             let b = self.bits();
@@ -139,7 +156,7 @@ pub trait Real:
 }
 
 macro_rules! impl_real {
-    ($t:ty, $bits:ty, $mask:expr, $prec:expr, $run:ident, $tokrun:ident) => {
+    ($t:ty, $bits:ty, $mask:expr, $prec:expr, $run:ident, $tokrun:ident, $tokacc:ident, $tokrc:ident) => {
         impl Real for $t {
             const PRECISION: Precision = $prec;
             const UNIT_ROUNDOFF: Self = <$t>::EPSILON / 2.0;
@@ -197,11 +214,28 @@ macro_rules! impl_real {
             fn run_with<K: crate::isa::Token>(k: K, job: &mut crate::drv::Job<'_, Self>) {
                 k.$tokrun(job)
             }
+            fn accurate_with<K: crate::isa::Token>(
+                k: K,
+                job: &mut crate::drv::Job<'_, Self>,
+                open: &crate::drv::Pending<Self>,
+                still: &mut crate::drv::Pending<Self>,
+            ) {
+                k.$tokacc(job, open, still)
+            }
+            fn recert_with<K: crate::isa::Token>(
+                k: K,
+                job: &mut crate::drv::Job<'_, Self>,
+                open: &crate::drv::Pending<Self>,
+                still: &mut crate::drv::Pending<Self>,
+                sharp: bool,
+            ) {
+                k.$tokrc(job, open, still, sharp)
+            }
         }
     };
 }
-impl_real!(f32, u32, 0x7f80_0000, Precision::F32, run_f32, run_f32);
-impl_real!(f64, u64, 0x7ff0_0000_0000_0000, Precision::F64, run_f64, run_f64);
+impl_real!(f32, u32, 0x7f80_0000, Precision::F32, run_f32, run_f32, accurate_f32, recert_f32);
+impl_real!(f64, u64, 0x7ff0_0000_0000_0000, Precision::F64, run_f64, run_f64, accurate_f64, recert_f64);
 
 #[cfg(test)]
 mod tests {

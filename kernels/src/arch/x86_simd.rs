@@ -20,8 +20,8 @@
 use core::arch::x86_64::*;
 
 use crate::algo::nodes::{Columns, Gaps, NodeTest};
-use crate::drv::Job;
-use crate::isa::{entry_modules, Isa, Token};
+use crate::drv::{Job, Pending};
+use crate::isa::{entry_modules, rare_modules, Isa, Token};
 use crate::lanes::{GatherIx, Lanes, Mask};
 use crate::query::{for_each_query, Query};
 
@@ -73,6 +73,14 @@ impl Avx512 {
     /// A token when this CPU has AVX-512F, AVX2 and FMA (cached detection).
     pub(crate) fn detect() -> Option<Self> {
         Isa::Avx512.is_available().then_some(Avx512(()))
+    }
+}
+
+#[cfg(feature = "avx512vl")]
+impl Avx512Vl {
+    /// The AVX2+FMA token this one implies (detection requires AVX2 and FMA for AVX-512VL).
+    pub(crate) fn avx2fma(self) -> Avx2Fma {
+        Avx2Fma(())
     }
 }
 
@@ -746,12 +754,29 @@ vec_type!(
 
 /// The entry points of one instruction set: for each query and precision a
 /// `#[target_feature]` function instantiating the driver with the token's lane types, each in a
-/// module of its own (`crate::isa::entry_modules`).
+/// module of its own (`crate::isa::entry_modules`). The last argument says where the rare paths
+/// run (`crate::drv::accurate`, `crate::drv::recert`): `own` (entry points of this instruction
+/// set, `crate::isa::rare_modules`), `sse41` (AVX, whose bits are SSE4.1's: on SSE4.1, or the
+/// portable code, the same bits, where detection does not find SSE4.1) or `avx2fma` (AVX-512VL,
+/// whose bits and lanes are AVX2+FMA's).
 macro_rules! simd_entries {
-    ([($tok:ty), ($feat:literal), ($l32:ty), ($l64:ty), ($node:ty)] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
+    ([($tok:ty), ($feat:literal), ($l32:ty), ($l64:ty), ($node:ty), ($acc:ident)] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
         entry_modules!(p32, f32, $tok, target_feature(enable = $feat), $l32, $($v, $m::$k;)*);
         entry_modules!(p64, f64, $tok, target_feature(enable = $feat), $l64, $($v, $m::$k;)*);
+        rare_entries!($acc, $tok, $feat, $l32, $l64);
         impl Token for $tok {
+            fn accurate_f32(self, job: &mut Job<'_, f32>, open: &Pending<f32>, still: &mut Pending<f32>) {
+                rare_on!($acc, self, accurate_f32, acc32, job, open, still)
+            }
+            fn accurate_f64(self, job: &mut Job<'_, f64>, open: &Pending<f64>, still: &mut Pending<f64>) {
+                rare_on!($acc, self, accurate_f64, acc64, job, open, still)
+            }
+            fn recert_f32(self, job: &mut Job<'_, f32>, open: &Pending<f32>, still: &mut Pending<f32>, sharp: bool) {
+                rare_on!($acc, self, recert_f32, rc32, job, open, still, sharp)
+            }
+            fn recert_f64(self, job: &mut Job<'_, f64>, open: &Pending<f64>, still: &mut Pending<f64>, sharp: bool) {
+                rare_on!($acc, self, recert_f64, rc64, job, open, still, sharp)
+            }
             fn run_f32(self, job: &mut Job<'_, f32>) {
                 match job.query {
                     // SAFETY: `self` is a token of this instruction set: detection found every
@@ -787,16 +812,45 @@ macro_rules! simd_entries {
     };
 }
 
+/// The rare paths' entry points (`crate::isa::rare_modules`) of an instruction set that
+/// runs them itself (`own`).
+macro_rules! rare_entries {
+    (own, $tok:ty, $feat:literal, $l32:ty, $l64:ty) => {
+        rare_modules!($tok, target_feature(enable = $feat), $l32, $l64);
+    };
+    ($other:ident, $tok:ty, $feat:literal, $l32:ty, $l64:ty) => {};
+}
+
+/// A rare path of a token's job (the accurate stage, the tight re-certification): its own entry
+/// point (`own`), or the method of the same name on the token whose bits are the same
+/// (`portable`, `avx2fma`).
+macro_rules! rare_on {
+    (own, $k:expr, $f:ident, $m:ident, $($a:ident),*) => {
+        // SAFETY: `$k` is a token of this instruction set: detection found every feature the
+        // entry point enables.
+        unsafe { $m::run($k, $($a),*) }
+    };
+    (sse41, $k:expr, $f:ident, $m:ident, $($a:ident),*) => {
+        match Sse41::detect() {
+            Some(k) => k.$f($($a),*),
+            None => crate::isa::Portable.$f($($a),*),
+        }
+    };
+    (avx2fma, $k:expr, $f:ident, $m:ident, $($a:ident),*) => {
+        $k.avx2fma().$f($($a),*)
+    };
+}
+
 // One module per instruction set: the compiler partitions code units by module, so the
 // entry points of different instruction sets are optimised in parallel.
 mod sse41 {
     use super::*;
-    for_each_query!(simd_entries, (Sse41), ("sse4.1"), (F32x4<Sse41>), (F64x2<Sse41>), (F64x2<Sse41>));
+    for_each_query!(simd_entries, (Sse41), ("sse4.1"), (F32x4<Sse41>), (F64x2<Sse41>), (F64x2<Sse41>), (own));
 }
 #[cfg(feature = "avx")]
 mod avx {
     use super::*;
-    for_each_query!(simd_entries, (Avx), ("avx"), (F32x8<Avx>), (F64x4<Avx>), (F64x4<Avx>));
+    for_each_query!(simd_entries, (Avx), ("avx"), (F32x8<Avx>), (F64x4<Avx>), (F64x4<Avx>), (sse41));
 }
 mod avx2fma {
     use super::*;
@@ -806,7 +860,8 @@ mod avx2fma {
         ("avx2,fma"),
         (F32x8<Avx2Fma>),
         (F64x4<Avx2Fma>),
-        (F64x4<Avx2Fma>)
+        (F64x4<Avx2Fma>),
+        (own)
     );
 }
 /// [`Avx2Fma`]'s vector types with AVX-512VL enabled: the same intrinsics, encoded with EVEX
@@ -820,7 +875,8 @@ mod avx512vl {
         ("avx512f,avx512vl,avx2,fma"),
         (F32x8<Avx512Vl>),
         (F64x4<Avx512Vl>),
-        (F64x4<Avx512Vl>)
+        (F64x4<Avx512Vl>),
+        (avx2fma)
     );
 }
 mod avx512 {
@@ -831,7 +887,8 @@ mod avx512 {
         ("avx512f,avx2,fma"),
         (F32x16<Avx512>),
         (F64x8<Avx512>),
-        (F64x4<Avx512>)
+        (F64x4<Avx512>),
+        (own)
     );
 }
 
