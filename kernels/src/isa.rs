@@ -16,7 +16,8 @@ pub enum Isa {
     /// SSE4.1: f32x4, f64x2.
     Sse41,
     /// AVX without FMA: f32x8, f64x4. Compiled only with the crate feature `avx` (default off:
-    /// it doubles the build time; CPUs with AVX but not AVX2+FMA run [`Isa::Sse41`] then).
+    /// it adds about a quarter to the build time; CPUs with AVX but not AVX2+FMA run
+    /// [`Isa::Sse41`] then).
     Avx,
     /// AVX2 + FMA: f32x8, f64x4, fused multiply-add in every dot product.
     Avx2Fma,
