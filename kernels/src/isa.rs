@@ -185,54 +185,17 @@ pub(crate) use entry_modules;
 /// (`scenes/tests/bit_identity.rs`), so the answers are bit for bit their own.
 macro_rules! rare_modules {
     ($tok:ty, $attr:meta, $l32:ty, $l64:ty) => {
-        mod acc32 {
+        rare_modules!(@one acc32, $tok, $attr, f32, $l32, accurate);
+        rare_modules!(@one acc64, $tok, $attr, f64, $l64, accurate);
+        rare_modules!(@one rc32, $tok, $attr, f32, $l32, recert, sharp: bool);
+        rare_modules!(@one rc64, $tok, $attr, f64, $l64, recert, sharp: bool);
+    };
+    (@one $m:ident, $tok:ty, $attr:meta, $t:ty, $l:ty, $f:ident $(, $x:ident: $xt:ty)?) => {
+        mod $m {
             use super::*;
             #[$attr]
-            pub(super) fn run(
-                k: $tok,
-                job: &mut Job<'_, f32>,
-                open: &Pending<f32>,
-                still: &mut Pending<f32>,
-            ) {
-                crate::drv::accurate::<$l32>(k, job, open, still)
-            }
-        }
-        mod acc64 {
-            use super::*;
-            #[$attr]
-            pub(super) fn run(
-                k: $tok,
-                job: &mut Job<'_, f64>,
-                open: &Pending<f64>,
-                still: &mut Pending<f64>,
-            ) {
-                crate::drv::accurate::<$l64>(k, job, open, still)
-            }
-        }
-        mod rc32 {
-            use super::*;
-            #[$attr]
-            pub(super) fn run(
-                k: $tok,
-                job: &mut Job<'_, f32>,
-                open: &Pending<f32>,
-                still: &mut Pending<f32>,
-                sharp: bool,
-            ) {
-                crate::drv::recert::<$l32>(k, job, open, still, sharp)
-            }
-        }
-        mod rc64 {
-            use super::*;
-            #[$attr]
-            pub(super) fn run(
-                k: $tok,
-                job: &mut Job<'_, f64>,
-                open: &Pending<f64>,
-                still: &mut Pending<f64>,
-                sharp: bool,
-            ) {
-                crate::drv::recert::<$l64>(k, job, open, still, sharp)
+            pub(super) fn run(k: $tok, job: &mut Job<'_, $t>, open: &Pending<$t>, still: &mut Pending<$t> $(, $x: $xt)?) {
+                crate::drv::$f::<$l>(k, job, open, still $(, $x)?)
             }
         }
     };

@@ -823,7 +823,7 @@ macro_rules! rare_entries {
 
 /// A rare path of a token's job (the accurate stage, the tight re-certification): its own entry
 /// point (`own`), or the method of the same name on the token whose bits are the same
-/// (`portable`, `avx2fma`).
+/// (`sse41`, falling back to the portable code; `avx2fma`).
 macro_rules! rare_on {
     (own, $k:expr, $f:ident, $m:ident, $($a:ident),*) => {
         // SAFETY: `$k` is a token of this instruction set: detection found every feature the
