@@ -1690,6 +1690,34 @@ impl<T: Real> Nearest<T> {
     }
 }
 
+/// How the nearest-pair searches ([`Engine::mesh_distance`], [`Engine::mesh_closest_point`])
+/// rank an answer: its squared distance (as `f64`), or, where that overflows `T` (the
+/// documented `+inf` of the kernels), its closest points' squared distance in `f64`: finite
+/// for f32 meshes (so the search still finds the closest pair, and prunes by it), `+inf` only
+/// for f64 points more than about 1.3e154 apart.
+fn rank<T: Real>(cp: &ClosestPoints<T>) -> f64 {
+    let d = cp.sqdist.to_f64();
+    if d != f64::INFINITY {
+        return d;
+    }
+    (0..3).map(|k| cp.q[k].to_f64() - cp.p[k].to_f64()).map(|x| x * x).sum()
+}
+
+/// The squared distance beyond which a nearest-pair search that has an answer prunes: `lim`,
+/// or, when even the best answer's rank ([`rank`]) overflows (f64 meshes more than about
+/// 1.3e154 apart), the largest `f64`: a node pair whose squared gap overflows too can only
+/// hold pairs that rank `+inf` as well (ties go to the smaller triangle numbers of the pairs
+/// answered). Without it no
+/// node pair was ever pruned there, and the search answered every pair (minutes for the
+/// Armadillo against fandisk; `tridist mesh ... --pose-b 1e155,0,0`).
+fn prune_beyond(lim: f64) -> f64 {
+    if lim == f64::INFINITY {
+        f64::MAX
+    } else {
+        lim
+    }
+}
+
 /// `(sqrt(d) - slack)^2` rounded up (each step rounded to nearest, then one step up), and 0
 /// where `slack` reaches `sqrt(d)`; `d` itself when that is smaller (or with no slack).
 fn less_slack(d: f64, slack: f64) -> f64 {
@@ -1731,7 +1759,7 @@ impl<T: Real> Search<T> for Nearest<T> {
         self.answered += pend.ids.len();
         for (cp, &(i, j)) in self.out.iter().zip(&pend.ids) {
             check_finite(cp.sqdist)?;
-            let d = cp.sqdist.to_f64();
+            let d = rank(cp);
             // ties among the pairs answered go to the smaller triangle numbers
             let better = match self.best {
                 None => true,
@@ -1753,7 +1781,7 @@ impl<T: Real> Search<T> for Nearest<T> {
         if self.answered >= self.widen_after {
             self.slack = self.wide;
         }
-        self.lim = less_slack(self.best_d, self.slack);
+        self.lim = prune_beyond(less_slack(self.best_d, self.slack));
         // nothing is nearer than touching: the search ends at the first batch that touches
         Ok(self.best_d == 0.0)
     }
@@ -2096,6 +2124,15 @@ impl Engine {
     /// without finishing allows `w` instead (f64 meshes far apart compared with their size:
     /// see [`MESH_DISTANCE_SLACK`]). [`crate::Tolerance::EXACT`] leaves no slack.
     ///
+    /// Meshes so far apart that the squared distance overflows `T` (f32 meshes more than
+    /// about 1.8e19 apart, f64 ones 1.3e154) get `sqdist = +inf`, as the triangle queries
+    /// document, with the closest points of the pair named. For f32 meshes that pair is still
+    /// the closest one as above: the search ranks such answers by their points' squared
+    /// distance in f64. For f64 meshes, where that overflows too, it is the first pair (in
+    /// triangle numbers) of those answered whose square overflows, not necessarily the
+    /// closest, and node pairs whose squared gap overflows are not searched; move both poses
+    /// nearer the origin together, or scale the meshes, for the closest pair.
+    ///
     /// # Errors
     /// [`Error::InvalidPose`] for a non-finite pose, [`Error::NonFiniteCoordinate`] when a
     /// moved coordinate overflows.
@@ -2127,7 +2164,9 @@ impl Engine {
     /// mesh ... --pose-a 1e7,0,0 --pose-b 1e7,0,0 --margin 0.1 --precision f32`); a smaller
     /// [`crate::Tolerance::scaled`] narrows the reach (and sends more pairs to the kernels'
     /// accurate stage). With [`Engine::threads`] above 1 the traversal is split into pieces
-    /// walked in parallel; the answer is the same.
+    /// walked in parallel; the answer is the same. A margin whose square overflows `f64`
+    /// (above about 1.3e154) reaches every pair whose squared distance overflows too: they
+    /// tie at `+inf`, ordered by triangle numbers, so a cap cannot narrow that search.
     ///
     /// # Errors
     /// [`Error::InvalidMargin`], [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].
@@ -2215,7 +2254,9 @@ impl Engine {
     }
 
     /// The closest point of a mesh in its pose to `x`: squared distance, the point and its
-    /// triangle (`None` for an empty mesh).
+    /// triangle (`None` for an empty mesh). Where the squared distance overflows `T` it is
+    /// `+inf`, ranked and named as [`Engine::mesh_distance`] says (for f32 the closest point
+    /// still; for f64, farther than about 1.3e154, a point of the first triangle answered).
     ///
     /// # Errors
     /// [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`] (also for a non-finite `x`).
@@ -2248,7 +2289,7 @@ impl Engine {
             self.closest_point_point_triangle(&[x], &tris[..], &mut out)?;
             for (cp, &i) in out.iter().zip(ids.iter()) {
                 check_finite(cp.sqdist)?;
-                let d = cp.sqdist.to_f64();
+                let d = rank(cp);
                 if best.is_none_or(|b| d < *best_d || (d == *best_d && (i as usize) < b.tri)) {
                     *best_d = d;
                     *best = Some(MeshPoint { sqdist: cp.sqdist, point: cp.q, tri: i as usize });
@@ -2260,7 +2301,7 @@ impl Engine {
         };
         let mut stack = vec![(point_gap2(&xf, &m.moved_box(0, &mv)), 0u32)];
         while let Some((gap, n)) = stack.pop() {
-            if gap > best_d {
+            if best.is_some() && gap > prune_beyond(best_d) {
                 continue;
             }
             let node = &m.nodes[n as usize];
@@ -3059,6 +3100,71 @@ mod tests {
             "{} against {min}",
             best.sqdist
         );
+    }
+
+    /// Meshes so far apart that squared distances overflow (the kernels' documented `+inf`):
+    /// every search still prunes, instead of answering every pair because `+inf` pruned
+    /// nothing (the Armadillo against fandisk ran for minutes: `tridist mesh ... --pose-b
+    /// 1e155,0,0`, and `1e200,0,0` in the intersection query). f32 spheres 1e20 apart: the
+    /// distance and the closest point are `+inf`, still for the closest pair (its points'
+    /// squared distance in f64 within the slack of the smallest over all pairs, brute
+    /// force) and point; f64 spheres 1e155 and 1e200 apart (squared gaps overflow f64 too):
+    /// `+inf` after a batch or two; at 1e200 the intersection query's reach (72 `u S`,
+    /// 2.4e186) squared overflows as well, and it answers no pair either. Measured: 9 pairs
+    /// answered by each distance query, 0 by the intersection queries. Broken on purpose, each
+    /// caught: `prune_beyond` made the identity, the f64 distance at 1e155 answered all
+    /// 160,000 pairs; `square_cap` always `+inf`, the intersection at 1e200 all 160,000;
+    /// `rank` the squared distance alone, the f32 distance all 160,000.
+    #[test]
+    fn searches_prune_where_squared_distances_overflow() {
+        use super::*;
+        let e = Engine::auto();
+        // f32: the closest pair and point, ranked by their points in f64
+        let (a, b) = (sphere::<f32>(10, 1.0), sphere::<f32>(10, 1.0));
+        let all = a.len() * b.len();
+        let (pa, pb) =
+            (Pose::identity(), Pose::from_axis_angle([1.0f32, 2.0, 3.0], 0.5, [1e20, 3e19, 0.0]).unwrap());
+        let mut s = Nearest::<f32>::new(e.current_tolerance());
+        search(&e, &a, &pa, &b, &pb, &mut s).expect("search");
+        let best = s.best.expect("an answer");
+        assert_eq!(best.sqdist, f32::INFINITY);
+        assert!(s.answered < all / 100, "{} of {all} pairs answered", s.answered);
+        let (ta, tb): (Vec<_>, Vec<_>) = (0..a.len())
+            .flat_map(|i| (0..b.len()).map(move |j| (i, j)))
+            .map(|(i, j)| (a.triangle_at(i, &pa), b.triangle_at(j, &pb)))
+            .unzip();
+        let mut cp = vec![ClosestPoints::default(); all];
+        e.closest_points_triangle_triangle(&ta, &tb, &mut cp).expect("brute force");
+        assert!(cp.iter().all(|c| c.sqdist == f32::INFINITY));
+        let min = cp.iter().map(rank).fold(f64::INFINITY, f64::min);
+        let got = rank(&cp[best.tri_a * b.len() + best.tri_b]);
+        assert!(got.sqrt() <= min.sqrt() + s.slack, "{got} against {min}, slack {}", s.slack);
+        let x = [-1e20f32, 0.0, 0.0];
+        let near = e.mesh_closest_point(&b, &pb, x).expect("closest point").expect("a point");
+        assert_eq!(near.sqdist, f32::INFINITY);
+        let far = |t: &Triangle<f32>| {
+            let mut c = [ClosestPoints::default()];
+            e.closest_point_point_triangle(&[x], &[*t][..], &mut c).expect("point");
+            rank(&c[0])
+        };
+        let min = tb[..b.len()].iter().map(far).fold(f64::INFINITY, f64::min);
+        let got = far(&tb[near.tri]);
+        assert!(got.sqrt() <= min.sqrt() * (1.0 + 1e-6), "{got} against {min}");
+        // f64: squared gaps overflow too
+        let (a, b) = (sphere::<f64>(10, 1.0), sphere::<f64>(10, 1.0));
+        for dx in [1e155, 1e200] {
+            let pb = Pose::from_axis_angle([1.0, 2.0, 3.0], 0.5, [dx, 0.3 * dx, 0.0]).unwrap();
+            let mut s = Nearest::<f64>::new(e.current_tolerance());
+            search(&e, &a, &Pose::identity(), &b, &pb, &mut s).expect("search");
+            assert_eq!(s.best.expect("an answer").sqdist, f64::INFINITY);
+            assert!(s.answered < all / 100, "{dx:e}: {} of {all} pairs answered", s.answered);
+            let mut h = FirstHit::<f64>::new(e.current_tolerance(), None);
+            search(&e, &a, &Pose::identity(), &b, &pb, &mut h).expect("intersection");
+            assert_eq!(h.hit, None);
+            assert!(h.answered < all / 100, "{dx:e}: intersection: {} of {all} pairs answered", h.answered);
+            let near = e.mesh_closest_point(&b, &pb, [-dx, 0.0, 0.0]).expect("closest point");
+            assert_eq!(near.map(|m| m.sqdist), Some(f64::INFINITY));
+        }
     }
 
     /// The README states the mesh distance's constants as the code has them.

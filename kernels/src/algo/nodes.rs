@@ -241,9 +241,26 @@ impl Limit {
                     Some(k) => w / k,
                     None => w,
                 };
-                w * w
+                (w * w).min(square_cap(margin))
             }
         }
+    }
+}
+
+/// The largest a [`Limit::Reach`] may be: the largest `f64` unless the margin's own square
+/// overflows. Where only the tolerance's part overflows (`per S` beyond about 1.3e154: f64
+/// coordinates beyond about 1e168), a node pair whose squared gap overflows too is then
+/// pruned: its gap, beyond 1.3e154 and a rigorous lower bound, proves it apart, though a
+/// tolerance that wide would let the kernels call it within. Without the cap `+inf` pruned
+/// nothing, and the intersection query answered every pair (minutes for the Armadillo
+/// against fandisk, `tridist mesh ... --pose-b 1e200,0,0`). A margin whose square overflows
+/// asks for the pairs within it, every one of them: no cap.
+#[inline(always)]
+pub(crate) fn square_cap(margin: f64) -> f64 {
+    if (margin * margin).is_finite() {
+        f64::MAX
+    } else {
+        f64::INFINITY
     }
 }
 
@@ -329,7 +346,7 @@ pub(crate) fn gaps<L: Lanes<S = f64>>(k: L::K, t: &NodeTest<'_>, out: &mut Gaps)
                     Some(x) => w.div(c(x)),
                     None => w,
                 };
-                w.mul(w)
+                w.mul(w).min(c(square_cap(margin)))
             }
         };
         // lanes past the last child: never below their limit
