@@ -147,9 +147,21 @@ pub fn read(path: &Path) -> Result<Vec<TRow>, String> {
                 .parse()
                 .map_err(|_| format!("{}:{line}: {} {:?} is not a count", path.display(), HEADER[k], &rec[k]))
         };
-        let qps: f64 = rec[8].parse().map_err(|_| {
-            format!("{}:{line}: queries_per_second {:?} is not a number", path.display(), &rec[8])
+        // a rate that was measured: `advise` picks the largest, so NaN or 0 would mislead it
+        let qps: f64 = rec[8].parse().ok().filter(|q: &f64| q.is_finite() && *q > 0.0).ok_or_else(|| {
+            format!(
+                "{}:{line}: queries_per_second {:?} is not a positive finite number",
+                path.display(),
+                &rec[8]
+            )
         })?;
+        if rec[3] != *"f32" && rec[3] != *"f64" {
+            return Err(format!("{}:{line}: precision {:?} is neither f32 nor f64", path.display(), &rec[3]));
+        }
+        let threads = num(4)?;
+        if threads == 0 {
+            return Err(format!("{}:{line}: threads 0: at least 1", path.display()));
+        }
         if ![QUICK, FULL, "-"].contains(&&rec[7]) {
             return Err(format!(
                 "{}:{line}: stages {:?} is neither quick, full nor -",
@@ -169,7 +181,7 @@ pub fn read(path: &Path) -> Result<Vec<TRow>, String> {
             query: rec[1].to_string(),
             implementation: rec[2].to_string(),
             precision: rec[3].to_string(),
-            threads: num(4)? as usize,
+            threads: threads as usize,
             tolerance: rec[5].to_string(),
             outputs: rec[6].to_string(),
             stages: rec[7].to_string(),
@@ -226,6 +238,24 @@ mod tests {
         std::fs::write(&p, format!("{head}\nw,q,i,f32,1,default,answer,slow,1,1,0,0,0,0,0,0,0,0\n")).unwrap();
         let e = read(&p).unwrap_err();
         assert!(e.contains(":2: stages \"slow\""), "{e}");
+        // values `advise` would have used silently: an unknown precision (its rows were never
+        // matched, the rate printed "?"), a rate that is not a measurement (NaN was printed and
+        // ranked), no threads
+        let good = "w,q,i,f32,1,default,answer,quick,7,1,0,0,0,0,0,0,0,0";
+        for (bad, says) in [
+            (good.replace(",f32,", ",f33,"), ":3: precision \"f33\" is neither f32 nor f64"),
+            (good.replace(",7,", ",NaN,"), ":3: queries_per_second \"NaN\" is not a positive finite number"),
+            (good.replace(",7,", ",inf,"), ":3: queries_per_second \"inf\""),
+            (good.replace(",7,", ",0,"), ":3: queries_per_second \"0\""),
+            (good.replace(",7,", ",-7,"), ":3: queries_per_second \"-7\""),
+            (good.replace("f32,1,", "f32,0,"), ":3: threads 0"),
+        ] {
+            std::fs::write(&p, format!("{head}\n{good}\n{bad}\n")).unwrap();
+            let e = read(&p).unwrap_err();
+            assert!(e.contains(says), "{bad}: {e}");
+        }
+        std::fs::write(&p, format!("{head}\n{good}\n")).unwrap();
+        assert_eq!(read(&p).unwrap().len(), 1);
     }
 
     /// The committed file parses with the csv crate, every row has every field, and its

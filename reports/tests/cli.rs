@@ -285,6 +285,21 @@ fn advise_reads_the_csv_and_picks_a_variant() {
         tridist(&["advise", "--scale", "1", "--tolerance", "1", "--csv", csv.to_str().unwrap()], "");
     assert_eq!(code, 3);
     assert!(err.contains("header"), "{err}");
+    // a rate that is not a measurement, or an unknown precision, is an error with its line
+    // (NaN was printed as "NaN queries/s" and ranked; "f33" rows were skipped silently)
+    for (row, says) in [
+        (
+            "random,tri_tri,scalar,f64,1,default,answer,quick,NaN,1,0,0,0,0,0,0,0,0",
+            ":2: queries_per_second \"NaN\"",
+        ),
+        ("random,tri_tri,scalar,f33,1,default,answer,quick,100,1,0,0,0,0,0,0,0,0", ":2: precision \"f33\""),
+    ] {
+        std::fs::write(&csv, format!("{head}{row}\n")).unwrap();
+        let (code, out, err) =
+            tridist(&["advise", "--scale", "1", "--tolerance", "1", "--csv", csv.to_str().unwrap()], "");
+        assert_eq!(code, 3, "{out}");
+        assert!(err.contains(says) && out.is_empty(), "{err}");
+    }
 }
 
 /// A small report end to end: every file is written, the CSV parses back with the csv crate
