@@ -223,8 +223,8 @@ pub(crate) enum Limit {
     Fixed(f64),
     /// `w^2` with `w = (margin + per S) + absolute`, divided by `keep` when given, `S` the
     /// largest absolute coordinate of the pair's two moved boxes (a bound of every triangle
-    /// pair's magnitude in them): the reach of the contact and intersection searches
-    /// (`crate::mesh`'s `reach`). The node test computes it a lane per child, the same
+    /// pair's magnitude in them), at most [`square_cap`]: the reach of the contact and
+    /// intersection searches (`crate::mesh`'s `reach`). The node test computes it a lane per child, the same
     /// operations in the same order as [`Limit::at`] (exact maxima, then plain roundings),
     /// so the same number.
     Reach { margin: f64, per: f64, absolute: f64, keep: Option<f64> },
