@@ -1707,9 +1707,8 @@ fn rank<T: Real>(cp: &ClosestPoints<T>) -> f64 {
 /// or, when even the best answer's rank ([`rank`]) overflows (f64 meshes more than about
 /// 1.3e154 apart), the largest `f64`: a node pair whose squared gap overflows too can only
 /// hold pairs that rank `+inf` as well (ties go to the smaller triangle numbers of the pairs
-/// answered). Without it no
-/// node pair was ever pruned there, and the search answered every pair (minutes for the
-/// Armadillo against fandisk; `tridist mesh ... --pose-b 1e155,0,0`).
+/// answered). Without it no node pair was ever pruned there, and the search answered every
+/// pair (minutes for the Armadillo against fandisk; `tridist mesh ... --pose-b 1e155,0,0`).
 fn prune_beyond(lim: f64) -> f64 {
     if lim == f64::INFINITY {
         f64::MAX

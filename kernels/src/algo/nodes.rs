@@ -321,6 +321,11 @@ pub(crate) fn gaps<L: Lanes<S = f64>>(k: L::K, t: &NodeTest<'_>, out: &mut Gaps)
             fixed_mag = fixed_mag.max(fixed[r * t.fixed_stride].abs());
         }
     }
+    // (the reach's cap depends on the search's margin alone: once per node test)
+    let cap = match t.limit {
+        Limit::Reach { margin, .. } => square_cap(margin),
+        Limit::Fixed(_) => f64::INFINITY,
+    };
     let mut base = 0;
     while base < t.n {
         let a = |r: usize| L::load(k, &t.group[r * t.stride + base..]);
@@ -346,7 +351,7 @@ pub(crate) fn gaps<L: Lanes<S = f64>>(k: L::K, t: &NodeTest<'_>, out: &mut Gaps)
                     Some(x) => w.div(c(x)),
                     None => w,
                 };
-                w.mul(w).min(c(square_cap(margin)))
+                w.mul(w).min(c(cap))
             }
         };
         // lanes past the last child: never below their limit
