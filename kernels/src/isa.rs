@@ -3,7 +3,7 @@
 
 use std::sync::OnceLock;
 
-use crate::algo::nodes::{Columns, Gaps, NodeTest};
+use crate::algo::nodes::{Columns, Gaps, LeafTest, NodeTest};
 use crate::drv::{Job, Pending};
 use crate::query::{for_each_query, Query};
 
@@ -140,6 +140,9 @@ pub(crate) trait Token: Copy + 'static {
     /// The mesh traversal's moved node bounds on this instruction set
     /// ([`crate::algo::nodes::columns`]).
     fn node_columns(self, job: &mut Columns<'_>);
+    /// The mesh traversal's test of two leaves' triangle pairs on this instruction set
+    /// ([`crate::algo::nodes::leaf_pairs`]).
+    fn leaf_pairs(self, t: &LeafTest<'_>, out: &mut u64);
 }
 
 /// The token of the portable (scalar) variant: always available.
@@ -236,6 +239,9 @@ macro_rules! portable_entries {
             fn node_columns(self, job: &mut Columns<'_>) {
                 crate::algo::nodes::columns::<f64>(self, job)
             }
+            fn leaf_pairs(self, t: &LeafTest<'_>, out: &mut u64) {
+                crate::algo::nodes::leaf_pairs::<f64>(self, t, out)
+            }
         }
     };
 }
@@ -286,3 +292,4 @@ run_for!(run_f32, job: &mut Job<'_, f32>);
 run_for!(run_f64, job: &mut Job<'_, f64>);
 run_for!(node_gaps, t: &NodeTest<'_>, out: &mut Gaps);
 run_for!(node_columns, job: &mut Columns<'_>);
+run_for!(leaf_pairs, t: &LeafTest<'_>, out: &mut u64);

@@ -171,7 +171,7 @@
 #[cfg(test)]
 use crate::algo::nodes::Column;
 use crate::algo::nodes::{
-    Columns, Gaps, Limit, NodeTest, DOWN, HI, LO, ROWS, SC, SE, SH, SHI, SLO, SRHO, SROWS,
+    Columns, Gaps, LeafTest, Limit, NodeTest, DOWN, HI, LO, ROWS, SC, SE, SH, SHI, SLO, SRHO, SROWS,
 };
 use crate::engine::Outputs;
 use crate::{ClosestPoints, Engine, Error, Intersection, Point, Pose, Query, Real, Triangle};
@@ -1100,17 +1100,19 @@ impl<T: Real> Pending<T> {
     }
 
     /// Gathers the triangle pairs of two moved leaves whose triangles' boxes are not farther
-    /// apart (squared, a lower bound) than `limit`.
-    fn push_leaves(&mut self, la: Leaf<'_, T>, lb: Leaf<'_, T>, limit: f64) {
-        for ((&ia, ta), ba) in la.ids.iter().zip(la.tris).zip(la.boxes) {
-            for ((&ib, tb), bb) in lb.ids.iter().zip(lb.tris).zip(lb.boxes) {
-                if box_gap2(ba, bb) > limit {
-                    continue;
-                }
-                self.ids.push((ia, ib));
-                self.a.push(*ta);
-                self.b.push(*tb);
-            }
+    /// apart (squared, a lower bound: [`box_gap2`]) than `limit`, tested on `isa`
+    /// ([`crate::algo::nodes::leaf_pairs`]).
+    fn push_leaves(&mut self, isa: crate::Isa, la: Leaf<'_, T>, lb: Leaf<'_, T>, limit: f64) {
+        let t = LeafTest { a: la.rows, na: la.ids.len(), b: lb.rows, nb: lb.ids.len(), limit };
+        let mut near = 0;
+        crate::isa::leaf_pairs(isa, &t, &mut near);
+        while near != 0 {
+            let k = near.trailing_zeros() as usize;
+            near &= near - 1;
+            let (i, j) = (k / MAX_LEAF, k % MAX_LEAF);
+            self.ids.push((la.ids[i], lb.ids[j]));
+            self.a.push(la.tris[i]);
+            self.b.push(lb.tris[j]);
         }
     }
 
@@ -1122,12 +1124,14 @@ impl<T: Real> Pending<T> {
 }
 
 /// A leaf's triangle numbers and its triangles moved by the query's pose
-/// ([`Mesh::leaf_triangle_at`]), with their boxes ([`Side::leaf`]).
+/// ([`Mesh::leaf_triangle_at`]), with their boxes as rows ([`Side::leaf`]).
 #[derive(Clone, Copy)]
 struct Leaf<'s, T> {
     ids: &'s [u32],
     tris: &'s [Triangle<T>],
-    boxes: &'s [Aabb],
+    /// The triangles' boxes as [`LeafTest`] reads them: six rows of one number per triangle,
+    /// then [`MAX_LEAF`] more.
+    rows: &'s [f64],
 }
 
 /// Node-indexed scratch of a [`Side`], reused by the queries of one thread: an entry counts
@@ -1191,9 +1195,11 @@ struct Side<'m, T> {
     slots: Slots,
     /// Numbers per row of a group of children (`Slots::groups`).
     stride: usize,
-    /// The moved triangles of the leaves reached, each leaf's together, and their boxes.
+    /// The moved triangles of the leaves reached, each leaf's together, and their boxes: the
+    /// leaf whose triangles start at `k` in `tris` has its boxes' rows ([`Leaf::rows`]) at
+    /// `6 k` in `rows`.
     tris: Vec<Triangle<T>>,
-    boxes: Vec<Aabb>,
+    rows: Vec<f64>,
 }
 
 impl<T> Drop for Side<'_, T> {
@@ -1210,7 +1216,7 @@ impl<'m, T: Real> Side<'m, T> {
         let slots = Slots::take(mesh.nodes.len());
         // a multiple of every f64 lane count, at least the width
         let stride = mesh.shape.width.next_multiple_of(4);
-        Side { mesh, pose, isa, mv, slots, stride, tris: Vec::new(), boxes: Vec::new() }
+        Side { mesh, pose, isa, mv, slots, stride, tris: Vec::new(), rows: Vec::new() }
     }
 
     /// Where node `i`'s moved bounds are in `Slots::groups`: row `r` at `pos + r * stride`.
@@ -1279,17 +1285,23 @@ impl<'m, T: Real> Side<'m, T> {
         let mut k = self.slots.entry(i)[3] as usize;
         if k == u32::MAX as usize {
             k = self.tris.len();
-            for at in first..first + n {
+            // (the numbers past the rows: the next leaf's rows overwrite them)
+            self.rows.resize(6 * (k + n) + MAX_LEAF, 0.0);
+            for (j, at) in (first..first + n).enumerate() {
                 let t = self.mesh.leaf_triangle_at(at, self.pose);
                 self.tris.push(t);
-                self.boxes.push(tri_box(&t));
+                let (lo, hi) = tri_box(&t);
+                for q in 0..3 {
+                    self.rows[6 * k + q * n + j] = lo[q];
+                    self.rows[6 * k + (3 + q) * n + j] = hi[q];
+                }
             }
             self.slots.entry(i)[3] = k as u32;
         }
         Leaf {
             ids: &self.mesh.order[first..first + n],
             tris: &self.tris[k..k + n],
-            boxes: &self.boxes[k..k + n],
+            rows: &self.rows[6 * k..6 * (k + n) + MAX_LEAF],
         }
     }
 }
@@ -1525,7 +1537,8 @@ fn walk<T: Real, S: Search<T>>(
                 continue 'visits;
             }
             if sa.mesh.nodes[x as usize].count > 0 && sb.mesh.nodes[y as usize].count > 0 {
-                pend.push_leaves(sa.leaf(x), sb.leaf(y), lim);
+                let isa = sa.isa;
+                pend.push_leaves(isa, sa.leaf(x), sb.leaf(y), lim);
                 if pend.ids.len() >= FLUSH || (s.eager(gap < 0.0) && !pend.ids.is_empty()) {
                     let stop = s.flush(e, &pend)?;
                     pend.clear();
@@ -2520,6 +2533,70 @@ mod tests {
             }
             assert!(b.rho <= 1e-12 * m, "rho = {:e}", b.rho);
         }
+    }
+
+    /// The leaf test keeps, on every instruction set, exactly the triangle pairs whose boxes
+    /// the scalar `box_gap2` does not put beyond the limit: leaves of 1 to 8 triangles with
+    /// random boxes (overlapping, touching and apart, at magnitudes from 1e-3 to 1e3, some
+    /// degenerate), limits of 0, exactly one pair's gap (kept) and the number below it, and
+    /// random ones; the numbers past the rows random too (the lanes past the last triangle
+    /// read them).
+    #[test]
+    fn leaf_pairs_keep_the_pairs_the_scalar_box_gap_keeps_on_every_isa() {
+        use super::*;
+        let isas: Vec<crate::Isa> = crate::Isa::ALL.into_iter().filter(|i| i.is_available()).collect();
+        let mut rnd = uniform(0x9e37_79b9_7f4a_7c15);
+        let (mut kept, mut dropped) = (0usize, 0usize);
+        for case in 0..4000 {
+            let scale = 10f64.powi((case % 7) as i32 - 3);
+            let (na, nb) = (1 + case % MAX_LEAF, 1 + (case / MAX_LEAF) % MAX_LEAF);
+            let mut boxes = |n: usize| -> Vec<Aabb> {
+                (0..n)
+                    .map(|_| {
+                        let o = [rnd(), rnd(), rnd()].map(|x| x * scale);
+                        let flat = rnd() < -0.3;
+                        let w =
+                            [rnd(), rnd(), rnd()].map(|x| if flat { 0.0 } else { (x + 0.5) * 0.3 * scale });
+                        (o, [0, 1, 2].map(|k| o[k] + w[k]))
+                    })
+                    .collect()
+            };
+            let (ba, bb) = (boxes(na), boxes(nb));
+            let mut rows = |b: &[Aabb]| -> Vec<f64> {
+                let n = b.len();
+                let mut r: Vec<f64> = (0..6 * n + MAX_LEAF).map(|_| rnd() * scale).collect();
+                for (j, (lo, hi)) in b.iter().enumerate() {
+                    for q in 0..3 {
+                        (r[q * n + j], r[(3 + q) * n + j]) = (lo[q], hi[q]);
+                    }
+                }
+                r
+            };
+            let (ra, rb) = (rows(&ba), rows(&bb));
+            let one = box_gap2(&ba[case % na], &bb[(case / 3) % nb]);
+            let limits = [0.0, one, one.next_down(), (rnd() + 0.5) * scale * scale * 0.1];
+            for limit in limits {
+                let mut want = 0u64;
+                for (i, a) in ba.iter().enumerate() {
+                    for (j, b) in bb.iter().enumerate() {
+                        // kept unless beyond the limit, as `push_leaves` kept them
+                        if box_gap2(a, b).partial_cmp(&limit) != Some(core::cmp::Ordering::Greater) {
+                            want |= 1 << (i * MAX_LEAF + j);
+                        }
+                    }
+                }
+                kept += want.count_ones() as usize;
+                dropped += na * nb - want.count_ones() as usize;
+                let t = LeafTest { a: &ra, na, b: &rb, nb, limit };
+                for &isa in &isas {
+                    let mut got = u64::MAX;
+                    crate::isa::leaf_pairs(isa, &t, &mut got);
+                    assert_eq!(got, want, "{isa}: case {case}, {na} x {nb} triangles, limit {limit:e}");
+                }
+            }
+        }
+        // both outcomes well represented
+        assert!(kept > 20_000 && dropped > 20_000, "kept {kept}, dropped {dropped}");
     }
 
     /// One node test as `siblings` runs it, on `isa`, with the same limit for every child.

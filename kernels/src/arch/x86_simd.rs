@@ -19,7 +19,7 @@
 
 use core::arch::x86_64::*;
 
-use crate::algo::nodes::{Columns, Gaps, NodeTest};
+use crate::algo::nodes::{Columns, Gaps, LeafTest, NodeTest};
 use crate::drv::{Job, Pending};
 use crate::isa::{entry_modules, rare_modules, Isa, Token};
 use crate::lanes::{GatherIx, Lanes, Mask};
@@ -798,6 +798,10 @@ macro_rules! simd_entries {
                 // SAFETY: as above.
                 unsafe { node_columns(self, job) }
             }
+            fn leaf_pairs(self, t: &LeafTest<'_>, out: &mut u64) {
+                // SAFETY: as above.
+                unsafe { leaf_pairs(self, t, out) }
+            }
         }
         /// The mesh traversal's node test with the instruction set enabled.
         #[target_feature(enable = $feat)]
@@ -808,6 +812,11 @@ macro_rules! simd_entries {
         #[target_feature(enable = $feat)]
         fn node_columns(k: $tok, job: &mut Columns<'_>) {
             crate::algo::nodes::columns::<$node>(k, job)
+        }
+        /// The mesh traversal's leaf test with the instruction set enabled.
+        #[target_feature(enable = $feat)]
+        fn leaf_pairs(k: $tok, t: &LeafTest<'_>, out: &mut u64) {
+            crate::algo::nodes::leaf_pairs::<$node>(k, t, out)
         }
     };
 }
