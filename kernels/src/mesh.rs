@@ -1554,8 +1554,7 @@ fn walk<T: Real, S: Search<T>>(
                 continue 'visits;
             }
             if sa.mesh.nodes[x as usize].count > 0 && sb.mesh.nodes[y as usize].count > 0 {
-                let isa = sa.isa;
-                pend.push_leaves(isa, sa.leaf(x), sb.leaf(y), lim);
+                pend.push_leaves(sa.isa, sa.leaf(x), sb.leaf(y), lim);
                 if pend.ids.len() >= s.batch() || (s.eager(gap < 0.0) && !pend.ids.is_empty()) {
                     let stop = s.flush(e, &pend)?;
                     pend.clear();
@@ -3081,7 +3080,7 @@ mod tests {
             search(&e, &a, &pa, &b, &pb, &mut s).expect("search");
             s.found.len()
         };
-        let (cap, batch) = (50, FLUSH.max(50) + DEFAULT_LEAF * DEFAULT_LEAF);
+        let (cap, batch) = (50, FLUSH + DEFAULT_LEAF * DEFAULT_LEAF);
         let (capped, uncapped) = (held(Some(cap)), held(None));
         assert!(capped < 2 * cap + batch, "{capped} contacts held for a cap of {cap}");
         assert!(uncapped > 100 * capped, "{uncapped} against {capped}");

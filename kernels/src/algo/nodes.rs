@@ -281,9 +281,10 @@ pub(crate) struct LeafTest<'a> {
 /// `i * MAX_LEAF + j` of `out` for triangle `i` of `a` and `j` of `b`, a lane per triangle of
 /// `b`. The squared gap is `crate::mesh`'s `box_gap2`, the same operations in the same order
 /// (plain, never fused; the maxima of finite numbers), so every instruction set keeps the
-/// same pairs as that scalar test (tested). A NaN gap is kept, as there. (The scalar test
-/// with a branch per pair, half of which a contact query keeps, unpredictably, was 14 % of
-/// the contact query's time at near contact, `perf` of `spin mesh contacts n3 f32 1 4`.)
+/// same pairs as that scalar test (tested). A NaN limit keeps every pair, as there. (The
+/// scalar test with a branch per pair, half of which a contact query keeps, unpredictably,
+/// was 14 % of the contact query's time at near contact, `perf` of `spin mesh contacts n3
+/// f32 1 4`.)
 #[inline(always)]
 pub(crate) fn leaf_pairs<L: Lanes<S = f64>>(k: L::K, t: &LeafTest<'_>, out: &mut u64) {
     let c = |v: f64| L::splat(k, v);
