@@ -2183,8 +2183,8 @@ impl Engine {
     /// Every triangle pair of two meshes in their poses whose distance is at most `margin`
     /// (contact generation), each with its squared distance and closest points, ordered by
     /// squared distance then triangle numbers; with `cap`, the first `cap` of that order,
-    /// found in memory for about `2 cap` contacts and one batch of candidates (at most the
-    /// cap's size, or 64) however many pairs are within the margin
+    /// found in memory for about `2 cap` contacts and one batch of candidates (the cap's
+    /// size, kept within 64 and 1024) however many pairs are within the margin
     /// (the search narrows to the `cap`-th contact's distance once it has that many).
     ///
     /// Within the margin is decided as [`Engine::within_margin_triangle_triangle`] decides it
