@@ -8,7 +8,8 @@
 //! pairs it did not accept (certificate wider than the tolerance) are collected. For
 //! triangle-triangle distance stage 0 is the quick stage (one edge pair per triangle pair),
 //! and its open pairs are gathered into full vectors (lane compaction) for stage 1, the full
-//! fast stage (counted as refined). The open pairs' answers are then re-certified tightly, and
+//! fast stage (counted as refined); on lanes with a register compress (AVX-512, AVX-512VL) the
+//! quick stage packs their coordinates from its registers instead ([`Packed`]). The open pairs' answers are then re-certified tightly, and
 //! those still open gathered for the kernel's accurate stage when it has one; what is
 //! still open goes to the full pipeline of the kernel's next query (brute force after PQP's
 //! undecided lanes, triangle-triangle distance after the cheap tests of within-margin and
@@ -421,6 +422,11 @@ pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
     // The open pairs after a step and those still open after the next one: two lists for the
     // whole batch, cleared and swapped, not allocated per chunk (see [`Pending`]).
     let (mut open, mut still) = (Pending::new(), Pending::new());
+    // With a register compress, the quick stage packs its open pairs' coordinates (already in
+    // its registers) into chunk columns that the full fast stage loads in order.
+    let pack = K::STAGES == 3 && L::COMPRESS && !direct;
+    debug_assert!(!pack || (K::KA, K::KB) == (3, 3), "packing is for triangle pairs");
+    let mut packed = Packed::<L::S>::new(pack, n);
     let mut start = 0;
     while start < n {
         let end = (start + CHUNK).min(n);
@@ -428,7 +434,7 @@ pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
         // (the answers of open pairs are kept only for the tight re-certification, which
         // follows the last stage before the accurate one)
         if !direct {
-            pass::<L, K, 0>(kk, job, start, end, None, &mut open, K::RECERT && K::STAGES == 1);
+            pass::<L, K, 0>(kk, job, start, end, None, &mut open, K::RECERT && K::STAGES == 1, &mut packed);
         }
         job.counts.pairs += (end - start) as u64;
         if K::NEXT == Some(Query::TriTri) {
@@ -440,7 +446,7 @@ pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
             let ix = if direct { None } else { Some(open.as_slice()) };
             job.counts.refined += ix.map_or(end - start, <[u32]>::len) as u64;
             still.clear();
-            pass::<L, K, 1>(kk, job, start, end, ix, &mut still, K::RECERT);
+            pass::<L, K, 1>(kk, job, start, end, ix, &mut still, K::RECERT, &mut packed);
             std::mem::swap(&mut open, &mut still);
         }
         if K::RECERT && !open.is_empty() {
@@ -482,11 +488,21 @@ pub(crate) fn accurate<L: Lanes>(
     open: &Pending<L::S>,
     still: &mut Pending<L::S>,
 ) {
-    pass::<L, crate::algo::pqp::TriTri, 2>(kk, job, 0, 0, Some(open.as_slice()), still, false);
+    pass::<L, crate::algo::pqp::TriTri, 2>(
+        kk,
+        job,
+        0,
+        0,
+        Some(open.as_slice()),
+        still,
+        false,
+        &mut Packed::new(false, 0),
+    );
 }
 
-/// Runs stage `ST` of `K` on pairs `start..end` (or on `idx`, gathered), writes every pair's
-/// answer and collects the ones not accepted (with their answers when `answers`).
+/// Runs stage `ST` of `K` on pairs `start..end` (or on `idx`, gathered, or read from `packed`
+/// when it is on: stage 1), writes every pair's answer and collects the ones not accepted (with
+/// their answers when `answers`); stage 0 with `packed` on also packs the pairs it leaves open.
 #[inline(always)]
 fn pass<L: Lanes, K: Kernel, const ST: u8>(
     kk: L::K,
@@ -496,7 +512,9 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
     idx: Option<&[u32]>,
     open: &mut Pending<L::S>,
     answers: bool,
+    packed: &mut Packed<L::S>,
 ) {
+    let pack = packed.on && ST < 2;
     let groups = match idx {
         Some(ix) => ix.len().div_ceil(L::N),
         None => (end - start).div_ceil(L::N),
@@ -506,11 +524,20 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
         None => (job.a.run(K::KA, start, groups * L::N), job.b.run(K::KB, start, groups * L::N)),
     };
     let only_d = job.sink.only_d();
+    if pack && ST == 1 {
+        if let Some(ix) = idx {
+            packed.pad(ix.len(), groups * L::N);
+        }
+    }
     for g in 0..groups {
         let (a, b, ids) = match idx {
             Some(ix) => {
                 let part = &ix[g * L::N..((g + 1) * L::N).min(ix.len())];
-                (job.a.gather::<L>(K::KA, kk, part), job.b.gather::<L>(K::KB, kk, part), Ids::Gathered(part))
+                if pack {
+                    (packed.load::<L>(kk, 0, g * L::N), packed.load::<L>(kk, 9, g * L::N), Ids::Gathered(part))
+                } else {
+                    (job.a.gather::<L>(K::KA, kk, part), job.b.gather::<L>(K::KB, kk, part), Ids::Gathered(part))
+                }
             }
             None => {
                 let i = start + g * L::N;
@@ -519,7 +546,82 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
             }
         };
         let o = K::stage::<L, ST>(&a, &b, &job.prm);
+        if pack && ST == 0 {
+            let n = match ids {
+                Ids::Run { n, .. } => n,
+                Ids::Gathered(ix) => ix.len(),
+            };
+            let shut = !o.ok.bits() & ((1u32 << n) - 1);
+            if shut != 0 {
+                packed.put(open.len(), shut, &a, &b);
+            }
+        }
         write::<L>(job, &o, ids, open, (answers, only_d));
+    }
+}
+
+/// The coordinates of one chunk's open pairs, packed by the quick stage for the full fast
+/// stage (triangle-triangle distance, on lanes with a register compress: [`Lanes::COMPRESS`]):
+/// 18 columns (the first triangle's 9 coordinates, then the second's), pair `m` of the chunk's
+/// open list at row `m`. The quick stage has each group's coordinates in registers; compressing
+/// them by the open lanes (`vcompressps`/`vcompresspd`) and storing them costs one instruction
+/// pair per column and group, where gathering them back costs a hardware gather per column and
+/// group of open pairs, on whose results the stage then waits. On the Zen 5 reference machine
+/// that raised `spin tri_tri random f32 avx512 1` from 34.4-36.4 to 46.9-48.2 M/s
+/// (ARCHITECTURE.md, "Where the kernels' time goes"). The bits are the gathered path's: the
+/// same coordinates in the same lanes, the tail lanes repeating the last open pair ([`Packed::pad`]).
+struct Packed<T> {
+    /// Pack at all (a constant of the entry point: the kernel, the lanes and the quick stage).
+    on: bool,
+    /// Rows per column: a chunk's pairs (or the batch's, if fewer) plus a vector's slack, so
+    /// that a compress's full-vector store at the last open row stays in its column.
+    rows: usize,
+    /// `18 * rows` values, allocated at the first open pair of the batch.
+    c: Vec<T>,
+}
+
+impl<T: Real> Packed<T> {
+    fn new(on: bool, n: usize) -> Self {
+        Packed { on, rows: n.min(CHUNK) + MAX_LANES, c: Vec::new() }
+    }
+    /// The lanes `m` (bits) of the group `a`, `b` at rows `at..` of every column (`at`: the
+    /// chunk's open pairs so far).
+    #[inline(always)]
+    fn put<L: Lanes<S = T>>(&mut self, at: usize, m: u32, a: &[V3<L>; 3], b: &[V3<L>; 3]) {
+        let rows = self.rows;
+        if self.c.is_empty() {
+            self.c = vec![T::ZERO; 18 * rows];
+        }
+        let c = &mut self.c[..18 * rows];
+        for (s, side) in [a, b].into_iter().enumerate() {
+            for (v, p) in side.iter().enumerate() {
+                for (d, x) in [p.x, p.y, p.z].into_iter().enumerate() {
+                    let j = 9 * s + 3 * v + d;
+                    x.compress(m, &mut c[j * rows + at..][..L::N]);
+                }
+            }
+        }
+    }
+    /// Rows `n..full` repeat row `n - 1`, as a gather's lanes beyond its pairs do (`n >= 1`,
+    /// `full` the open pairs rounded up to whole vectors).
+    fn pad(&mut self, n: usize, full: usize) {
+        let rows = self.rows;
+        let c = &mut self.c[..18 * rows];
+        for col in c.chunks_exact_mut(rows) {
+            let last = col[n - 1];
+            col[n..full].fill(last);
+        }
+    }
+    /// Side `side` (0 or 9: the first column of its triangle) of the open pairs `at..at + N`.
+    #[inline(always)]
+    fn load<L: Lanes<S = T>>(&self, kk: L::K, side: usize, at: usize) -> [V3<L>; 3] {
+        let rows = self.rows;
+        let c = &self.c[..18 * rows];
+        let mut coord = [L::splat(kk, T::ZERO); 9];
+        for (j, x) in coord.iter_mut().enumerate() {
+            *x = L::load(kk, &c[(side + j) * rows + at..][..L::N]);
+        }
+        to_points(&coord, 3)
     }
 }
 

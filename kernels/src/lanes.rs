@@ -49,6 +49,20 @@ pub(crate) fn gather_lanes<L: Lanes>(k: L::K, col: &[L::S], ix: &GatherIx) -> L 
     L::load(k, buf.as_ref())
 }
 
+/// [`Lanes::compress`] one lane at a time, through a buffer.
+#[inline(always)]
+pub(crate) fn compress_lanes<L: Lanes>(v: L, m: u32, dst: &mut [L::S]) {
+    let mut buf = L::ZEROS;
+    v.store(buf.as_mut());
+    let dst = &mut dst[..L::N];
+    let (mut rest, mut at) = (m, 0);
+    while rest != 0 {
+        dst[at] = buf.as_ref()[rest.trailing_zeros() as usize];
+        at += 1;
+        rest &= rest - 1;
+    }
+}
+
 /// A lane mask: the result of a comparison, one boolean per lane.
 pub(crate) trait Mask: Copy {
     fn and(self, o: Self) -> Self;
@@ -141,6 +155,20 @@ pub(crate) trait Lanes: Copy {
     #[inline(always)]
     fn gather(k: Self::K, col: &[Self::S], ix: &GatherIx) -> Self {
         gather_lanes(k, col, ix)
+    }
+    /// Has the hardware a register compress ([`Lanes::compress`] in one instruction:
+    /// AVX-512's `vcompressps`/`vcompresspd`, also on 256-bit vectors with AVX-512VL)? Then the
+    /// batch driver packs the quick stage's open pairs from its registers instead of gathering
+    /// them (`crate::drv::Packed`). Without it the lane-by-lane form below is not used there:
+    /// on AVX2+FMA it was no faster than the gather (`spin tri_tri random|arm_nearby f32|f64
+    /// avx2fma 1`, Zen 5, three rounds: random f64 10.7-11.0 against 11.9-12.4 M/s).
+    const COMPRESS: bool = false;
+    /// Writes the lanes whose bit is set in `m` to the front of `dst`, in lane order, and
+    /// `N` values in all (those beyond the packed ones unspecified; panics if `dst` is
+    /// shorter than `N`).
+    #[inline(always)]
+    fn compress(self, m: u32, dst: &mut [Self::S]) {
+        compress_lanes(self, m, dst)
     }
 
     #[inline(always)]

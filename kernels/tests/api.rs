@@ -81,6 +81,65 @@ fn same_bits_in_every_lane_position_and_in_the_tail() {
     }
 }
 
+/// A batch of several chunks (the driver's 256 pairs), SoA and AoS: every pair gets the bits it
+/// gets alone, also the pairs the quick stage leaves open, which the full fast stage reads
+/// packed by the quick stage (where the lanes have a register compress) or gathered.
+fn multi_chunk_batches_give_each_pair_its_own_bits<T: tridist::Real>() {
+    let ps = pairs::<T>(700);
+    let a: Vec<_> = ps.iter().map(|x| x.0).collect();
+    let b: Vec<_> = ps.iter().map(|x| x.1).collect();
+    for e in engines() {
+        let alone: Vec<ClosestPoints<T>> = ps
+            .iter()
+            .map(|(a, b)| {
+                let mut cp = [ClosestPoints::default()];
+                e.closest_points_triangle_triangle(&[*a][..], &[*b][..], &mut cp).unwrap();
+                cp[0]
+            })
+            .collect();
+        let (mut soa, mut aos) =
+            (vec![ClosestPoints::default(); ps.len()], vec![ClosestPoints::default(); ps.len()]);
+        let c = e
+            .run(
+                Query::TriTri,
+                &TriangleBatch::from_slice(&a),
+                &TriangleBatch::from_slice(&b),
+                Outputs::new().closest_points(&mut soa),
+            )
+            .unwrap();
+        assert!(c.refined > 100 && c.refined < c.pairs, "{:?}: {c:?}", e.isa());
+        e.closest_points_triangle_triangle(&a, &b, &mut aos).unwrap();
+        for k in 0..ps.len() {
+            for got in [&soa[k], &aos[k]] {
+                assert_eq!(
+                    (
+                        got.sqdist.to_f64().to_bits(),
+                        got.p.map(|x| x.to_f64().to_bits()),
+                        got.q.map(|x| x.to_f64().to_bits())
+                    ),
+                    (
+                        alone[k].sqdist.to_f64().to_bits(),
+                        alone[k].p.map(|x| x.to_f64().to_bits()),
+                        alone[k].q.map(|x| x.to_f64().to_bits())
+                    ),
+                    "{:?} pair {k}",
+                    e.isa()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn multi_chunk_batches_give_each_pair_its_own_bits_f32() {
+    multi_chunk_batches_give_each_pair_its_own_bits::<f32>();
+}
+
+#[test]
+fn multi_chunk_batches_give_each_pair_its_own_bits_f64() {
+    multi_chunk_batches_give_each_pair_its_own_bits::<f64>();
+}
+
 #[test]
 fn soa_aos_and_single_queries_agree_on_the_scalar_variant() {
     let ps = pairs::<f64>(64);

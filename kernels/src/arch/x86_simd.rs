@@ -93,6 +93,8 @@ pub(crate) trait HasAvx: Token {
     const FMA: bool;
     /// Does the token also prove AVX2 (the 256-bit integer instructions)?
     const AVX2: bool;
+    /// Does the token also prove AVX-512F and VL (the 256-bit register compress)?
+    const VL: bool = false;
 }
 #[cfg(feature = "avx")]
 impl HasAvx for Avx {
@@ -108,6 +110,7 @@ impl HasAvx for Avx2Fma {
 impl HasAvx for Avx512Vl {
     const FMA: bool = true;
     const AVX2: bool = true;
+    const VL: bool = true;
 }
 /// (The AVX-512 entry points run the mesh node test on the 256-bit types.)
 impl HasAvx for Avx512 {
@@ -301,7 +304,7 @@ macro_rules! vec_type {
         andnot = $andnot:ident, blendv = $blendv:ident, fmadd = $fmadd:ident,
         lt = $lt:expr, le = $le:expr, eq = $eq:expr, bits = $bits:ty,
         max_exp = $max_exp:ident, max_exp_exact = $exact:expr, clamp01 = $clamp01:ident
-        $(, gather = $gather:ident)?
+        $(, gather = $gather:ident)? $(, compress = $compress:ident, compress_on = $con:expr)?
     ) => {
         #[derive(Clone, Copy)]
         pub(crate) struct $name<K>($reg, K);
@@ -441,6 +444,17 @@ macro_rules! vec_type {
                     }
                 }
             )?
+            $(
+                const COMPRESS: bool = $con;
+                #[inline(always)]
+                fn compress(self, m: u32, dst: &mut [$s]) {
+                    if $con {
+                        $compress(self.1, self.0, m, &mut dst[..$n]);
+                    } else {
+                        crate::lanes::compress_lanes(self, m, dst);
+                    }
+                }
+            )?
         }
     };
 }
@@ -533,7 +547,9 @@ vec_type!(
     bits = u32,
     max_exp = max_exp256_ps,
     max_exp_exact = true,
-    clamp01 = clamp256_ps
+    clamp01 = clamp256_ps,
+    compress = compress256_ps,
+    compress_on = K::VL
 );
 vec_type!(
     F64x4,
@@ -563,7 +579,9 @@ vec_type!(
     bits = u64,
     max_exp = max_exp256_pd,
     max_exp_exact = false,
-    clamp01 = clamp256_pd
+    clamp01 = clamp256_pd,
+    compress = compress256_pd,
+    compress_on = K::VL
 );
 
 /// An AVX-512 comparison mask: one bit per lane in a `__mmask16` / `__mmask8` (plain integer
@@ -668,6 +686,38 @@ macro_rules! gather512 {
 gather512!(gather512_ps, f32, __m512, 16, __m512i, _mm512_loadu_si512, _mm512_i32gather_ps, 4);
 gather512!(gather512_pd, f64, __m512d, 8, __m256i, _mm256_loadu_si256, _mm512_i32gather_pd, 8);
 
+/// The register compress of the lanes set in `m` to the front, stored as `$n` values.
+macro_rules! compress512 {
+    ($name:ident, $s:ty, $reg:ty, $n:expr, $mask:ty, $compress:ident, $storeu:ident) => {
+        #[inline(always)]
+        fn $name<K: HasAvx512>(_: K, v: $reg, m: u32, dst: &mut [$s]) {
+            let dst = &mut dst[..$n];
+            // SAFETY: `dst` has exactly `$n` writable elements (checked by the slice above);
+            // the first argument is a token: detection found AVX-512F (module docs).
+            unsafe { $storeu(dst.as_mut_ptr(), $compress(m as $mask, v)) }
+        }
+    };
+}
+compress512!(compress512_ps, f32, __m512, 16, __mmask16, _mm512_maskz_compress_ps, _mm512_storeu_ps);
+compress512!(compress512_pd, f64, __m512d, 8, __mmask8, _mm512_maskz_compress_pd, _mm512_storeu_pd);
+
+/// The 256-bit register compress of AVX-512VL, for [`HasAvx::VL`] tokens only.
+macro_rules! compress256 {
+    ($name:ident, $s:ty, $reg:ty, $n:expr, $compress:ident, $storeu:ident) => {
+        #[inline(always)]
+        fn $name<K: HasAvx>(_: K, v: $reg, m: u32, dst: &mut [$s]) {
+            assert!(K::VL);
+            let dst = &mut dst[..$n];
+            // SAFETY: `dst` has exactly `$n` writable elements (checked by the slice above);
+            // the first argument is a token proving AVX-512F and VL (`K::VL`, asserted above;
+            // the callers test it first, so the assertion folds away).
+            unsafe { $storeu(dst.as_mut_ptr(), $compress(m as u8, v)) }
+        }
+    };
+}
+compress256!(compress256_ps, f32, __m256, 8, _mm256_maskz_compress_ps, _mm256_storeu_ps);
+compress256!(compress256_pd, f64, __m256d, 4, _mm256_maskz_compress_pd, _mm256_storeu_pd);
+
 avx512_forms!(
     __m512,
     __mmask16,
@@ -718,7 +768,9 @@ vec_type!(
     max_exp = max_exp512_ps,
     max_exp_exact = true,
     clamp01 = clamp512_ps,
-    gather = gather512_ps
+    gather = gather512_ps,
+    compress = compress512_ps,
+    compress_on = true
 );
 vec_type!(
     F64x8,
@@ -749,7 +801,9 @@ vec_type!(
     max_exp = max_exp512_pd,
     max_exp_exact = true,
     clamp01 = clamp512_pd,
-    gather = gather512_pd
+    gather = gather512_pd,
+    compress = compress512_pd,
+    compress_on = true
 );
 
 /// The entry points of one instruction set: for each query and precision a
