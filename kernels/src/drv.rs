@@ -534,9 +534,17 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
             Some(ix) => {
                 let part = &ix[g * L::N..((g + 1) * L::N).min(ix.len())];
                 if pack {
-                    (packed.load::<L>(kk, 0, g * L::N), packed.load::<L>(kk, 9, g * L::N), Ids::Gathered(part))
+                    (
+                        packed.load::<L>(kk, 0, g * L::N),
+                        packed.load::<L>(kk, 9, g * L::N),
+                        Ids::Gathered(part),
+                    )
                 } else {
-                    (job.a.gather::<L>(K::KA, kk, part), job.b.gather::<L>(K::KB, kk, part), Ids::Gathered(part))
+                    (
+                        job.a.gather::<L>(K::KA, kk, part),
+                        job.b.gather::<L>(K::KB, kk, part),
+                        Ids::Gathered(part),
+                    )
                 }
             }
             None => {
@@ -570,14 +578,31 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
 /// that raised `spin tri_tri random f32 avx512 1` from 34.4-36.4 to 46.9-48.2 M/s
 /// (ARCHITECTURE.md, "Where the kernels' time goes"). The bits are the gathered path's: the
 /// same coordinates in the same lanes, the tail lanes repeating the last open pair ([`Packed::pad`]).
-struct Packed<T> {
+struct Packed<T: Real> {
     /// Pack at all (a constant of the entry point: the kernel, the lanes and the quick stage).
     on: bool,
     /// Rows per column: a chunk's pairs (or the batch's, if fewer) plus a vector's slack, so
     /// that a compress's full-vector store at the last open row stays in its column.
     rows: usize,
-    /// `18 * rows` values, allocated at the first open pair of the batch.
+    /// At least `18 * rows` values, taken at the batch's first open pair from this thread's
+    /// spare (`Sealed::pack_spare`), given back when the batch is done.
     c: Vec<T>,
+}
+
+impl<T: Real> Drop for Packed<T> {
+    fn drop(&mut self) {
+        if !self.c.is_empty() {
+            let c = std::mem::take(&mut self.c);
+            // (at thread exit the spare may be gone: the buffer is then freed)
+            let _ = <T as crate::real::sealed::Sealed>::pack_spare().try_with(|s| {
+                if let Ok(mut s) = s.try_borrow_mut() {
+                    if s.len() < c.len() {
+                        *s = c;
+                    }
+                }
+            });
+        }
+    }
 }
 
 impl<T: Real> Packed<T> {
@@ -590,7 +615,15 @@ impl<T: Real> Packed<T> {
     fn put<L: Lanes<S = T>>(&mut self, at: usize, m: u32, a: &[V3<L>; 3], b: &[V3<L>; 3]) {
         let rows = self.rows;
         if self.c.is_empty() {
-            self.c = vec![T::ZERO; 18 * rows];
+            let spare = <T as crate::real::sealed::Sealed>::pack_spare();
+            self.c = spare
+                .try_with(|s| s.try_borrow_mut().map(|mut s| std::mem::take(&mut *s)))
+                .ok()
+                .and_then(Result::ok)
+                .unwrap_or_default();
+            if self.c.len() < 18 * rows {
+                self.c.resize(18 * rows, T::ZERO);
+            }
         }
         let c = &mut self.c[..18 * rows];
         for (s, side) in [a, b].into_iter().enumerate() {

@@ -57,6 +57,10 @@ pub(crate) mod sealed {
         fn bits(self) -> u64;
         /// From raw bits (the low 32 for f32).
         fn from_bits64(b: u64) -> Self;
+        /// This thread's spare column buffer of the batch driver's packing
+        /// ([`crate::drv::Packed`]), kept from batch to batch so that a batch does not
+        /// allocate and clear it.
+        fn pack_spare() -> &'static std::thread::LocalKey<std::cell::RefCell<Vec<Self>>>;
         /// Runs a batch job on an instruction-set variant (checks availability itself).
         fn run_job(isa: crate::Isa, job: &mut crate::drv::Job<'_, Self>);
         /// One pair without a batch (the single queries).
@@ -188,6 +192,12 @@ macro_rules! impl_real {
             }
         }
         impl sealed::Sealed for $t {
+            fn pack_spare() -> &'static std::thread::LocalKey<std::cell::RefCell<Vec<Self>>> {
+                thread_local! {
+                    static SPARE: std::cell::RefCell<Vec<$t>> = const { std::cell::RefCell::new(Vec::new()) };
+                }
+                &SPARE
+            }
             const EXP_MASK: u64 = $mask;
             const TINY: Self = <$t>::from_bits(1);
             const WIDTH: u32 = <$bits>::BITS;

@@ -664,7 +664,10 @@ macro_rules! avx512_forms {
 /// caller then gathers lane by lane (and panics on the bad index, as indexing does). On the
 /// Zen 5 reference machine, `spin tri_tri random f32 avx512 1.5` (three quarters of the pairs
 /// gathered for the full fast stage) ran at 37.3-37.5 M/s with it and 32.1-32.8 without (two
-/// copies of each binary, alternated twice); f64 was unchanged (26.5-27.0 either way).
+/// copies of each binary, alternated twice); f64 was unchanged (26.5-27.0 either way). Since
+/// then the full fast stage reads those pairs packed by the quick stage's register compress
+/// instead (`crate::drv::Packed`, faster still); the gather serves the rare paths
+/// (re-certification, the accurate stage) and the sub-jobs of escalation.
 macro_rules! gather512 {
     ($name:ident, $s:ty, $reg:ty, $n:expr, $ix:ty, $load_ix:ident, $gather:ident, $scale:expr) => {
         #[inline(always)]
