@@ -434,7 +434,8 @@ pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
         // (the answers of open pairs are kept only for the tight re-certification, which
         // follows the last stage before the accurate one)
         if !direct {
-            pass::<L, K, 0>(kk, job, start, end, None, &mut open, K::RECERT && K::STAGES == 1, &mut packed);
+            let recert = K::RECERT && K::STAGES == 1;
+            pass::<L, K, 0>(kk, job, Span::Run(start, end), &mut open, recert, &mut packed);
         }
         job.counts.pairs += (end - start) as u64;
         if K::NEXT == Some(Query::TriTri) {
@@ -443,10 +444,10 @@ pub(crate) fn run<L: Lanes, K: Kernel>(kk: L::K, job: &mut Job<'_, L::S>) {
         }
         if K::STAGES == 3 && (direct || !open.is_empty()) {
             // one call site, so the full fast stage is inlined once per entry point
-            let ix = if direct { None } else { Some(open.as_slice()) };
-            job.counts.refined += ix.map_or(end - start, <[u32]>::len) as u64;
+            let span = if direct { Span::Run(start, end) } else { Span::Ids(open.as_slice()) };
+            job.counts.refined += span.len() as u64;
             still.clear();
-            pass::<L, K, 1>(kk, job, start, end, ix, &mut still, K::RECERT, &mut packed);
+            pass::<L, K, 1>(kk, job, span, &mut still, K::RECERT, &mut packed);
             std::mem::swap(&mut open, &mut still);
         }
         if K::RECERT && !open.is_empty() {
@@ -491,38 +492,51 @@ pub(crate) fn accurate<L: Lanes>(
     pass::<L, crate::algo::pqp::TriTri, 2>(
         kk,
         job,
-        0,
-        0,
-        Some(open.as_slice()),
+        Span::Ids(open.as_slice()),
         still,
         false,
         &mut Packed::new(false, 0),
     );
 }
 
-/// Runs stage `ST` of `K` on pairs `start..end` (or on `idx`, gathered, or read from `packed`
-/// when it is on: stage 1), writes every pair's answer and collects the ones not accepted (with
-/// their answers when `answers`); stage 0 with `packed` on also packs the pairs it leaves open.
+/// The pairs one stage pass runs on: a run `start..end` of the batch, loaded in place, or the
+/// pairs of an open list (gathered, or read from the packed columns when they are on).
+#[derive(Clone, Copy)]
+enum Span<'s> {
+    Run(usize, usize),
+    Ids(&'s [u32]),
+}
+
+impl Span<'_> {
+    fn len(self) -> usize {
+        match self {
+            Span::Run(start, end) => end - start,
+            Span::Ids(ix) => ix.len(),
+        }
+    }
+}
+
+/// Runs stage `ST` of `K` on the pairs of `span` (read from `packed` when it is on: stage 1),
+/// writes every pair's answer and collects the ones not accepted (with their answers when
+/// `answers`); stage 0 with `packed` on also packs the pairs it leaves open.
 #[inline(always)]
 fn pass<L: Lanes, K: Kernel, const ST: u8>(
     kk: L::K,
     job: &mut Job<'_, L::S>,
-    start: usize,
-    end: usize,
-    idx: Option<&[u32]>,
+    span: Span<'_>,
     open: &mut Pending<L::S>,
     answers: bool,
     packed: &mut Packed<L::S>,
 ) {
     let pack = packed.on && ST < 2;
-    let groups = match idx {
-        Some(ix) => ix.len().div_ceil(L::N),
-        None => (end - start).div_ceil(L::N),
+    let groups = span.len().div_ceil(L::N);
+    // (an open list's pairs are gathered: its runs are cut empty)
+    let (start, end, idx) = match span {
+        Span::Run(start, end) => (start, end, None),
+        Span::Ids(ix) => (0, 0, Some(ix)),
     };
-    let (ra, rb) = match idx {
-        Some(_) => (job.a.run(K::KA, start, 0), job.b.run(K::KB, start, 0)),
-        None => (job.a.run(K::KA, start, groups * L::N), job.b.run(K::KB, start, groups * L::N)),
-    };
+    let cut = if idx.is_some() { 0 } else { groups * L::N };
+    let (ra, rb) = (job.a.run(K::KA, start, cut), job.b.run(K::KB, start, cut));
     let only_d = job.sink.only_d();
     if pack && ST == 1 {
         if let Some(ix) = idx {

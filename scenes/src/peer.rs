@@ -321,67 +321,6 @@ pub fn judge_cases<T: Peer>(lib: Lib, cases: &[Case<T>]) -> Stats {
     st
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn fcl_mesh_refuses_what_tridist_refuses() {
-        let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-        assert!(FclMesh::new(&v, &[]).is_none(), "no triangle");
-        assert!(FclMesh::new(&v, &[[0, 1, 3]]).is_none(), "index out of range");
-        assert!(
-            FclMesh::new(&[[0.0, 0.0, 0.0], [1.0, f64::NAN, 0.0], [0.0, 1.0, 0.0]], &[[0, 1, 2]]).is_none()
-        );
-        assert_eq!(FclMesh::new(&v, &[[0, 1, 2]]).is_some(), FclMesh::available());
-    }
-
-    #[test]
-    fn parry_answers_the_same_question() {
-        let a = [[[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]];
-        let b = [[[0.0f64, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]]];
-        let mut d = [0.0];
-        Shapes::new(&a, &b).distances(&mut d);
-        assert_eq!(d[0], 2.0);
-        let cases: Vec<Case<f64>> = generate(Family::Random, 1, 50);
-        let ca: Vec<_> = cases.iter().map(|c| c.a).collect();
-        let cb: Vec<_> = cases.iter().map(|c| c.b).collect();
-        let (worst, beyond) = agreement(Lib::Parry, &ca, &cb).unwrap();
-        assert!(worst < 1e-9 && beyond == 0, "{worst} {beyond}");
-        // a harness that compared squared with unsquared distances would be caught
-        let mut ours = vec![0.0; 50];
-        Engine::new(Isa::Scalar).unwrap().sqdist_triangle_triangle(&ca, &cb, &mut ours).unwrap();
-        let disjoint = ours.iter().filter(|&&x| x > 1e-2).count();
-        assert!(disjoint > 10);
-        assert!(compare(&ca, &cb, &ours, &ours).is_err());
-    }
-
-    #[test]
-    fn judged_against_the_oracle() {
-        let st = judge::<f64>(Lib::Parry, Family::Random, 7, 40);
-        assert_eq!(st.n, 40);
-        assert!(st.max_excess.is_finite() && st.nonfinite == 0);
-    }
-
-    #[test]
-    fn fcl_answers_the_same_question_when_built() {
-        if !Lib::Fcl.available() {
-            eprintln!("{}", Lib::Fcl.missing_reason());
-            return;
-        }
-        let cases: Vec<Case<f64>> = generate(Family::Random, 3, 200);
-        let ca: Vec<_> = cases.iter().map(|c| c.a).collect();
-        let cb: Vec<_> = cases.iter().map(|c| c.b).collect();
-        let (worst, beyond) = agreement(Lib::Fcl, &ca, &cb).unwrap();
-        assert!(beyond == 0 && worst < 1e-9, "{worst} {beyond}");
-        let a = [[[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]];
-        let b = [[[0.0f32, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]]];
-        let mut d = [0.0f32];
-        Shapes::for_lib(Lib::Fcl, &a, &b).distances(&mut d);
-        assert_eq!(d[0], 2.0);
-    }
-}
-
 #[cfg(tridist_fcl_mesh)]
 mod fcl_mesh_ffi {
     use core::ffi::c_void;
@@ -523,5 +462,66 @@ impl Drop for FclMesh {
         unsafe {
             fcl_mesh_ffi::tridist_fcl_mesh_free(self.ptr)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fcl_mesh_refuses_what_tridist_refuses() {
+        let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        assert!(FclMesh::new(&v, &[]).is_none(), "no triangle");
+        assert!(FclMesh::new(&v, &[[0, 1, 3]]).is_none(), "index out of range");
+        assert!(
+            FclMesh::new(&[[0.0, 0.0, 0.0], [1.0, f64::NAN, 0.0], [0.0, 1.0, 0.0]], &[[0, 1, 2]]).is_none()
+        );
+        assert_eq!(FclMesh::new(&v, &[[0, 1, 2]]).is_some(), FclMesh::available());
+    }
+
+    #[test]
+    fn parry_answers_the_same_question() {
+        let a = [[[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]];
+        let b = [[[0.0f64, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]]];
+        let mut d = [0.0];
+        Shapes::new(&a, &b).distances(&mut d);
+        assert_eq!(d[0], 2.0);
+        let cases: Vec<Case<f64>> = generate(Family::Random, 1, 50);
+        let ca: Vec<_> = cases.iter().map(|c| c.a).collect();
+        let cb: Vec<_> = cases.iter().map(|c| c.b).collect();
+        let (worst, beyond) = agreement(Lib::Parry, &ca, &cb).unwrap();
+        assert!(worst < 1e-9 && beyond == 0, "{worst} {beyond}");
+        // a harness that compared squared with unsquared distances would be caught
+        let mut ours = vec![0.0; 50];
+        Engine::new(Isa::Scalar).unwrap().sqdist_triangle_triangle(&ca, &cb, &mut ours).unwrap();
+        let disjoint = ours.iter().filter(|&&x| x > 1e-2).count();
+        assert!(disjoint > 10);
+        assert!(compare(&ca, &cb, &ours, &ours).is_err());
+    }
+
+    #[test]
+    fn judged_against_the_oracle() {
+        let st = judge::<f64>(Lib::Parry, Family::Random, 7, 40);
+        assert_eq!(st.n, 40);
+        assert!(st.max_excess.is_finite() && st.nonfinite == 0);
+    }
+
+    #[test]
+    fn fcl_answers_the_same_question_when_built() {
+        if !Lib::Fcl.available() {
+            eprintln!("{}", Lib::Fcl.missing_reason());
+            return;
+        }
+        let cases: Vec<Case<f64>> = generate(Family::Random, 3, 200);
+        let ca: Vec<_> = cases.iter().map(|c| c.a).collect();
+        let cb: Vec<_> = cases.iter().map(|c| c.b).collect();
+        let (worst, beyond) = agreement(Lib::Fcl, &ca, &cb).unwrap();
+        assert!(beyond == 0 && worst < 1e-9, "{worst} {beyond}");
+        let a = [[[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]];
+        let b = [[[0.0f32, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]]];
+        let mut d = [0.0f32];
+        Shapes::for_lib(Lib::Fcl, &a, &b).distances(&mut d);
+        assert_eq!(d[0], 2.0);
     }
 }
