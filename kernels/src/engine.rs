@@ -68,9 +68,10 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 /// ([`Interval`]). A pair is done when `hi - lo <= max(scaled * u * S, absolute, relative *
 /// lo)` (`u` the unit roundoff of the input's precision, `S` the pair's largest absolute
 /// coordinate). Otherwise it goes on: from the quick stage (triangle-triangle distance) to the
-/// full fast stage and from there to the accurate stage (each gathered into full vectors),
-/// then, for f32 input, to the same algorithm in f64 on the exactly widened
-/// input, then, with the `exact` feature, to the exact rational oracle. What each setting
+/// full fast stage and from there to the accurate stage (each gathered into full vectors; on
+/// AVX-512 the quick stage's open pairs are packed from its registers instead), then, for f32
+/// input, to the same algorithm in f64 on the exactly widened input, then, with the `exact`
+/// feature, to the exact rational oracle. What each setting
 /// guarantees, for every pair the batch reports as certified ([`PathCounts::uncertified`]
 /// counts the others):
 ///
