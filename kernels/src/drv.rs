@@ -9,12 +9,12 @@
 //! triangle-triangle distance stage 0 is the quick stage (one edge pair per triangle pair),
 //! and its open pairs are gathered into full vectors (lane compaction) for stage 1, the full
 //! fast stage (counted as refined); on lanes with a register compress (AVX-512, AVX-512VL) the
-//! quick stage packs their coordinates from its registers instead ([`Packed`]). The open pairs' answers are then re-certified tightly, and
-//! those still open gathered for the kernel's accurate stage when it has one; what is
-//! still open goes to the full pipeline of the kernel's next query (brute force after PQP's
-//! undecided lanes, triangle-triangle distance after the cheap tests of within-margin and
-//! intersection), or, for f32
-//! input, is recomputed in f64 from the exactly widened input by the same instruction set's f64
+//! quick stage packs their coordinates from its registers instead ([`Packed`]). The open
+//! pairs' answers are then re-certified tightly, and those still open gathered for the
+//! kernel's accurate stage when it has one; what is still open goes to the full pipeline of
+//! the kernel's next query (brute force after PQP's undecided lanes, triangle-triangle
+//! distance after the cheap tests of within-margin and intersection), or, for f32 input, is
+//! recomputed in f64 from the exactly widened input by the same instruction set's f64
 //! code, and finally, with the `exact` feature, by the exact oracle. Whatever is left is
 //! counted as uncertified (answered, with its interval).
 //!
