@@ -387,10 +387,13 @@ fn a_small_report_writes_parseable_files() {
         // the pair at the gap (1e-3) is within the margin (0.02): at least one contact
         assert!(cells[12].parse::<usize>().unwrap() >= 1, "{r}");
         assert!(cells[13..15].iter().all(|x| x.parse::<f64>().unwrap() >= 0.0), "{r}");
+        // the kernels alone on those contacts' pairs: timed (there is at least one), and
+        // giving each contact's distance (checked in the agreement column)
+        assert!(cells[15].parse::<f64>().unwrap() > 0.0, "{r}");
         // and so the clearance check at that margin says yes
-        assert_eq!(cells[15], "yes", "{r}");
-        assert!(cells[16..18].iter().all(|x| x.parse::<f64>().unwrap() >= 0.0), "{r}");
-        assert_eq!(cells[18], "ok", "{r}");
+        assert_eq!(cells[16], "yes", "{r}");
+        assert!(cells[17..19].iter().all(|x| x.parse::<f64>().unwrap() >= 0.0), "{r}");
+        assert_eq!(cells[19], "ok", "{r}");
     }
     // two threads on the contact query at the middle pose, with the two independent workers'
     // ceiling, per precision: both speed-ups measured (positive ratios)
