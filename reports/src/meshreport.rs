@@ -601,6 +601,10 @@ fn near_rows(
 /// queries move them) and run as one batch with closest points, as the contact query computes
 /// them, with no traversal at all. Returns its median time and whether it gave each contact's
 /// squared distance bit for bit (the same question asked). No contacts: zero time, `true`.
+/// (The contacts come from a call of their own, untimed: keeping the timed calls' answers
+/// alive would keep the allocator from reusing their memory, which changes the contact
+/// query's time; see ARCHITECTURE.md "Contacts on two threads". "Any contact query" means
+/// one built on these kernels: a faster kernel would lower the floor.)
 fn kernel_floor(
     e: &Engine,
     a: &Mesh<f32>,
