@@ -106,15 +106,18 @@ pub use batch::{Batch, PointBatch, SegmentBatch, TriangleBatch};
 pub use engine::{Engine, Outputs, PenaltyOptions, Prims, Tolerance, ISA_ENV};
 pub use error::Error;
 pub use isa::Isa;
-pub use mesh::{
-    Contact, Mesh, MeshDistance, MeshPoint, TreeShape, DEFAULT_LEAF, DEFAULT_WIDTH, MAX_LEAF, MAX_WIDTH,
-    MESH_DISTANCE_SLACK, MESH_DISTANCE_WIDEN_AFTER,
-};
+pub use mesh::{Contact, Mesh, MeshDistance, MeshPoint, TreeShape};
 pub use pose::{AsPoint, Pose};
 pub use query::Query;
 pub use real::{Precision, Real};
 pub use single::*;
 pub use types::{ClosestPoints, Intersection, Interval, PathCounts, Point, Proximity, Segment, Triangle};
+
+/// The repository's README: `cargo test` compiles and runs every Rust block of it, so the
+/// examples a newcomer pastes first are the ones that build.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+struct ReadmeDoctests;
 
 /// Guards the module naming that makes LLVM inline callers before callees (see the comment on
 /// the module list): under legacy mangling, `drv` < `algo` < `lanes` < the vector types' impls.

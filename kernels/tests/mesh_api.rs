@@ -18,16 +18,16 @@ fn bad_meshes_and_poses_are_errors() {
     let mut nan = v.clone();
     nan[1][2] = f32::NAN;
     assert_eq!(Mesh::new(nan, vec![[0, 1, 2]]).unwrap_err(), Error::NonFiniteVertex { vertex: 1 });
-    for w in [0, 1, tridist::MAX_WIDTH + 1, usize::MAX] {
+    for w in [0, 1, tridist::TreeShape::MAX_WIDTH + 1, usize::MAX] {
         assert_eq!(Mesh::with_width(v.clone(), vec![[0, 1, 2]], w).unwrap_err(), Error::InvalidTreeWidth(w));
     }
     assert!(Error::InvalidTreeWidth(9).to_string().contains("2 to 8"));
     assert_eq!(Mesh::with_width(v.clone(), vec![[0, 1, 2]], 5).unwrap().width(), 5);
-    assert_eq!(tetra([0.0; 3]).width(), tridist::DEFAULT_WIDTH);
+    assert_eq!(tetra([0.0; 3]).width(), tridist::TreeShape::DEFAULT.width);
     // leaf sizes: 1 to MAX_LEAF; a bad width is named before a bad leaf
     use tridist::TreeShape;
     let shaped = |width, leaf| Mesh::with_shape(v.clone(), vec![[0, 1, 2]], TreeShape { width, leaf });
-    for n in [0, tridist::MAX_LEAF + 1, usize::MAX] {
+    for n in [0, tridist::TreeShape::MAX_LEAF + 1, usize::MAX] {
         assert_eq!(shaped(4, n).unwrap_err(), Error::InvalidLeafSize(n));
     }
     assert_eq!(shaped(1, 0).unwrap_err(), Error::InvalidTreeWidth(1));
@@ -36,12 +36,12 @@ fn bad_meshes_and_poses_are_errors() {
     assert_eq!(TreeShape { width: 8, leaf: 9 }.check(), Err(Error::InvalidLeafSize(9)));
     assert_eq!(TreeShape::default().check(), Ok(()));
     assert!(Error::InvalidLeafSize(9).to_string().contains("1 to 8"));
-    for n in [1, tridist::MAX_LEAF] {
+    for n in [1, tridist::TreeShape::MAX_LEAF] {
         assert_eq!(shaped(3, n).unwrap().shape(), TreeShape { width: 3, leaf: n });
     }
     assert_eq!(
         tetra([0.0; 3]).shape(),
-        TreeShape { width: tridist::DEFAULT_WIDTH, leaf: tridist::DEFAULT_LEAF }
+        TreeShape { width: tridist::TreeShape::DEFAULT.width, leaf: tridist::TreeShape::DEFAULT.leaf }
     );
     assert_eq!(TreeShape::default(), tetra([0.0; 3]).shape());
     let (a, b) = (tetra([0.0; 3]), tetra([3.0, 0.0, 0.0]));

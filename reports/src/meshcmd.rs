@@ -48,11 +48,11 @@ pub struct MeshArgs {
     /// Most children of a tree node, 2 to 8 (`Mesh::with_shape`). Contacts, the verdict and
     /// the closest point are the same for every tree, the distance within its documented
     /// slack (`TreeShape`); the time differs.
-    #[arg(long, default_value_t = tridist::DEFAULT_WIDTH, value_parser = tree_width, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = tridist::TreeShape::DEFAULT.width, value_parser = tree_width, allow_negative_numbers = true)]
     pub width: usize,
     /// Most triangles of a tree leaf, 1 to 8: larger leaves build faster and suit contact
     /// queries (`--margin`); see "Leaf size" in reports/MESH.md.
-    #[arg(long, default_value_t = tridist::DEFAULT_LEAF, value_parser = leaf_size, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = tridist::TreeShape::DEFAULT.leaf, value_parser = leaf_size, allow_negative_numbers = true)]
     pub leaf: usize,
 }
 

@@ -727,8 +727,8 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         b.triangles.len(),
         s.mesh_poses,
         Engine::auto().isa(),
-        tridist::DEFAULT_WIDTH,
-        tridist::DEFAULT_LEAF,
+        tridist::TreeShape::DEFAULT.width,
+        tridist::TreeShape::DEFAULT.leaf,
         if FclMesh::available() { "measured" } else { "**not measured: FCL was not found at build time** (`apt-get install libfcl-dev libeigen3-dev`, then rebuild)" },
         s.budget.as_millis()
     );

@@ -20,14 +20,14 @@ pub const FAMILIES: &[&str] = &[
 ];
 
 /// The tree widths the differential tests and the fuzz target run (every variant on
-/// [`tridist::DEFAULT_WIDTH`], the best one on the others), and the report's "Tree width"
+/// [`tridist::TreeShape::DEFAULT.width`], the best one on the others), and the report's "Tree width"
 /// table compares.
 pub const TREE_WIDTHS: [usize; 3] = [2, 4, 8];
 
 /// The leaf sizes the differential tests and the fuzz target run besides
-/// [`tridist::DEFAULT_LEAF`] (the best variant, at the default width): the smallest and the
+/// [`tridist::TreeShape::DEFAULT.leaf`] (the best variant, at the default width): the smallest and the
 /// largest a tree may have.
-pub const TEST_LEAVES: [usize; 2] = [1, tridist::MAX_LEAF];
+pub const TEST_LEAVES: [usize; 2] = [1, tridist::TreeShape::MAX_LEAF];
 
 /// The tree shapes the differential tests and the fuzz target run: the default, then
 /// every other width of [`TREE_WIDTHS`] and every leaf size of [`TEST_LEAVES`] (each
@@ -520,8 +520,9 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         // answer (`Engine::mesh_distance`): that many `u S` beyond a kernel answer's own error
         // (`S` there is the moved roots' boxes', a hair above `big_s`); the tolerance's width
         // where the search could answer enough pairs to widen it
-        let widens = ma.len() * mb.len() >= tridist::MESH_DISTANCE_WIDEN_AFTER.max(ma.len() + mb.len());
-        let slack = if widens { e.current_tolerance().scaled } else { tridist::MESH_DISTANCE_SLACK };
+        let widens =
+            ma.len() * mb.len() >= tridist::Engine::MESH_DISTANCE_WIDEN_AFTER.max(ma.len() + mb.len());
+        let slack = if widens { e.current_tolerance().scaled } else { tridist::Engine::MESH_DISTANCE_SLACK };
         let err = if r.sqdist.to_f64().sqrt() > dstar { (err - slack * (1.0 + 1e-6)).max(0.0) } else { err };
         let pair = d2.get(r.tri_a, r.tri_b).to_f64().sqrt();
         let err_pair = excess(r.sqdist.to_f64().sqrt() - pair, u, big_s);

@@ -16,7 +16,34 @@
 //! add; squares are lowered by `8 eps`.
 
 use crate::lanes::{Lanes, Mask, V3};
-use crate::mesh::{Moved, MAX_LEAF, MAX_WIDTH};
+
+/// Most triangles of a leaf a tree may hold ([`crate::TreeShape::MAX_LEAF`]): the leaf test's
+/// rows are sized by it.
+pub(crate) const MAX_LEAF: usize = 8;
+/// Most children of a node ([`crate::TreeShape::MAX_WIDTH`]): a node test's lanes.
+pub(crate) const MAX_WIDTH: usize = 8;
+
+/// A pose in f64 with the relative slack that makes moved boxes contain the moved vertices.
+#[derive(Clone, Copy)]
+pub(crate) struct Moved {
+    pub(crate) r: [[f64; 3]; 3],
+    pub(crate) t: [f64; 3],
+    pub(crate) rel: f64,
+    /// The Frobenius norm of `r` rounded up: how much the rotation can stretch a ball.
+    pub(crate) frob: f64,
+}
+
+impl Moved {
+    pub(crate) fn of<T: crate::Real>(p: &crate::Pose<T>) -> Moved {
+        let r = p.rotation.map(|row| row.map(crate::Real::to_f64));
+        Moved {
+            r,
+            t: p.translation.map(crate::Real::to_f64),
+            rel: 4.0 * T::UNIT_ROUNDOFF.to_f64() + 16.0 * f64::EPSILON,
+            frob: r.iter().flatten().map(|x| x * x).sum::<f64>().sqrt() * (1.0 + 1e-12),
+        }
+    }
+}
 
 /// Row of the moved axis-aligned box's lower corner (3 rows).
 pub(crate) const LO: usize = 0;

@@ -1,0 +1,225 @@
+//! The mesh queries of [`Engine`]: each checks its input, moves the roots and runs the one
+//! traversal ([`search`]) with its searcher.
+
+use super::*;
+
+impl Engine {
+    /// The closest pair of triangles of two meshes in their poses: squared distance, closest
+    /// points and the triangles that hold them (`None` when a mesh is empty). Touching or
+    /// intersecting meshes give 0 (at some touching pair).
+    ///
+    /// The answer is the kernels' answer for the pair it names, and its distance is at most
+    /// `min(4 u S, w)` above the smallest of the kernels' answers over all pairs (`S` the
+    /// largest moved coordinate of both meshes, `w` the tolerance's `scaled u S` or
+    /// `absolute`, the larger): the search does not refine within the coordinates' own
+    /// rounding, where far from the origin every pair may tie. A search that has answered
+    /// [`Engine::MESH_DISTANCE_WIDEN_AFTER`] pairs (or as many as both meshes have triangles, if more)
+    /// without finishing allows `w` instead (f64 meshes far apart compared with their size:
+    /// see [`Engine::MESH_DISTANCE_SLACK`]). [`crate::Tolerance::EXACT`] leaves no slack.
+    ///
+    /// Meshes so far apart that the squared distance overflows `T` (f32 meshes more than
+    /// about 1.8e19 apart, f64 ones 1.3e154) get `sqdist = +inf`, as the triangle queries
+    /// document, with the closest points of the pair named. For f32 meshes that pair is still
+    /// the closest one as above: the search ranks such answers by their points' squared
+    /// distance in f64. For f64 meshes, where that overflows too, it is the first pair (in
+    /// triangle numbers) of those answered whose square overflows, not necessarily the
+    /// closest, and node pairs whose squared gap overflows are not searched; move both poses
+    /// nearer the origin together, or scale the meshes, for the closest pair.
+    ///
+    /// # Errors
+    /// [`Error::InvalidPose`] for a non-finite pose, [`Error::NonFiniteCoordinate`] when a
+    /// moved coordinate overflows.
+    pub fn mesh_distance<T: Real>(
+        &self,
+        a: &Mesh<T>,
+        pose_a: &Pose<T>,
+        b: &Mesh<T>,
+        pose_b: &Pose<T>,
+    ) -> Result<Option<MeshDistance<T>>, Error> {
+        let mut s = Nearest::new(self.current_tolerance());
+        s.widen_after = Engine::MESH_DISTANCE_WIDEN_AFTER.max(a.len() + b.len());
+        search(self, a, pose_a, b, pose_b, &mut s)?;
+        Ok(s.best)
+    }
+
+    /// Every triangle pair of two meshes in their poses whose distance is at most `margin`
+    /// (contact generation), each with its squared distance and closest points, ordered by
+    /// squared distance then triangle numbers; with `cap`, the first `cap` of that order,
+    /// found in memory for about `2 cap` contacts and one batch of candidates (the cap's
+    /// size, kept within 64 and 1024) however many pairs are within the margin
+    /// (the search narrows to the `cap`-th contact's distance once it has that many).
+    ///
+    /// Within the margin is decided as [`Engine::within_margin_triangle_triangle`] decides it
+    /// (the full triangle-triangle answer, thresholded), pair by pair. So the search visits
+    /// every pair whose answer could fall within the margin: exactly up to the margin plus the
+    /// tolerance's width (`scaled u S`, 64 `u S` by default) beyond it. Far from the origin
+    /// that width can hold far more pairs than the margin: Armadillo and fandisk both moved
+    /// 1e5, 1e6 and 1e7 along x in f32, margin 0.1, took 6.3 ms, 170 ms and 16 s (`tridist
+    /// mesh ... --pose-a 1e7,0,0 --pose-b 1e7,0,0 --margin 0.1 --precision f32`); a smaller
+    /// [`crate::Tolerance::scaled`] narrows the reach (and sends more pairs to the kernels'
+    /// accurate stage). With [`Engine::threads`] above 1 the traversal is split into pieces
+    /// walked in parallel; the answer is the same. A margin whose square overflows `f64`
+    /// (above about 1.3e154) reaches every pair whose squared distance overflows too: they
+    /// tie at `+inf`, ordered by triangle numbers, so a cap cannot narrow that search.
+    ///
+    /// # Errors
+    /// [`Error::InvalidMargin`], [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].
+    pub fn mesh_contacts<T: Real>(
+        &self,
+        a: &Mesh<T>,
+        pose_a: &Pose<T>,
+        b: &Mesh<T>,
+        pose_b: &Pose<T>,
+        margin: T,
+        cap: Option<usize>,
+    ) -> Result<Vec<Contact<T>>, Error> {
+        let e = self.margin(margin.to_f64())?;
+        let state = || Contacts::new(margin.to_f64(), e.current_tolerance(), cap);
+        let mut found = if self.thread_count() > 1 {
+            contacts_threaded(&e, a, pose_a, b, pose_b, &state)?
+        } else {
+            let mut s = state();
+            search(&e, a, pose_a, b, pose_b, &mut s)?;
+            s.found
+        };
+        // deterministic either way: no two contacts share their triangle pair (the threaded
+        // search returns them sorted)
+        if self.thread_count() <= 1 {
+            found = sorted(found.iter());
+        }
+        if let Some(c) = cap {
+            found.truncate(c);
+        }
+        Ok(found)
+    }
+
+    /// Do two meshes in their poses intersect (touch or overlap)? `Some((tri_a, tri_b))`: a
+    /// pair the kernels call intersecting ([`Engine::intersect_triangle_triangle`]; the
+    /// search stops at the first batch that holds one, and reports its smallest pair), `None`
+    /// when every pair is disjoint.
+    ///
+    /// The kernels may call a pair within the tolerance's width of touching intersecting, so
+    /// `None` is answered only after every such pair was answered disjoint. Far from the
+    /// origin, where that width (72 `u S` by default) approaches the meshes' size, that is
+    /// many pairs: `data/meshes`' Armadillo and fandisk 0.89 apart (the fandisk moved 2.5
+    /// along z), 1e6 from the origin in f32, take about 0.1 s, against 0.01 ms near it (`tridist
+    /// mesh`, one call). A `Some` is found among overlapping boxes first, so it stays fast
+    /// there (module docs, "The traversal").
+    ///
+    /// # Errors
+    /// [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].
+    pub fn mesh_intersect<T: Real>(
+        &self,
+        a: &Mesh<T>,
+        pose_a: &Pose<T>,
+        b: &Mesh<T>,
+        pose_b: &Pose<T>,
+    ) -> Result<Option<(usize, usize)>, Error> {
+        let mut s = FirstHit::new(self.current_tolerance(), None);
+        search::<T, _>(self, a, pose_a, b, pose_b, &mut s)?;
+        Ok(s.hit)
+    }
+
+    /// Are two meshes in their poses within `margin` of each other (PQP's tolerance query, a
+    /// clearance check)? `Some((tri_a, tri_b))`: a pair the kernels answer within the margin,
+    /// one of [`Engine::mesh_contacts`]' contacts at that margin (the search stops at the
+    /// first batch that holds one, and reports its smallest pair); `None` exactly when
+    /// [`Engine::mesh_contacts`] finds none. The same decision, so the same guarantees: every
+    /// pair within the margin is seen, and a pair within `c u S` of the margin may go either
+    /// way. Where the meshes come within the margin this stops early, so it is cheaper than a
+    /// distance query compared with the margin (reports/MESH.md times both); where they do
+    /// not, it visits every node pair the contact query visits, and answers their triangle
+    /// pairs' squared distances only. One thread whatever [`Engine::threads`] says.
+    ///
+    /// # Errors
+    /// [`Error::InvalidMargin`], [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].
+    pub fn mesh_within_margin<T: Real>(
+        &self,
+        a: &Mesh<T>,
+        pose_a: &Pose<T>,
+        b: &Mesh<T>,
+        pose_b: &Pose<T>,
+        margin: T,
+    ) -> Result<Option<(usize, usize)>, Error> {
+        let e = self.margin(margin.to_f64())?;
+        let mut s = FirstHit::new(e.current_tolerance(), Some(margin.to_f64()));
+        search::<T, _>(&e, a, pose_a, b, pose_b, &mut s)?;
+        Ok(s.hit)
+    }
+
+    /// The closest point of a mesh in its pose to `x`: squared distance, the point and its
+    /// triangle (`None` for an empty mesh). Where the squared distance overflows `T` it is
+    /// `+inf`, ranked and named as [`Engine::mesh_distance`] says (for f32 the closest point
+    /// still; for f64, farther than about 1.3e154, a point of the first triangle answered).
+    ///
+    /// # Errors
+    /// [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`] (also for a non-finite `x`).
+    pub fn mesh_closest_point<T: Real>(
+        &self,
+        m: &Mesh<T>,
+        pose: &Pose<T>,
+        x: Point<T>,
+    ) -> Result<Option<MeshPoint<T>>, Error> {
+        pose.check()?;
+        if x.iter().any(|c| !c.is_finite()) {
+            return Err(Error::NonFiniteCoordinate);
+        }
+        if m.is_empty() {
+            return Ok(None);
+        }
+        let mv = Moved::of(pose);
+        mv.fits(m)?;
+        let xf = x.map(Real::to_f64);
+        let mut best: Option<MeshPoint<T>> = None;
+        let mut best_d = f64::INFINITY;
+        let (mut ids, mut tris) = (Vec::new(), Vec::new());
+        let mut out = Vec::new();
+        let mut flush = |ids: &mut Vec<u32>,
+                         tris: &mut Vec<Triangle<T>>,
+                         best: &mut Option<MeshPoint<T>>,
+                         best_d: &mut f64| {
+            out.clear();
+            out.resize(ids.len(), ClosestPoints::default());
+            self.closest_point_point_triangle(&[x], &tris[..], &mut out)?;
+            for (cp, &i) in out.iter().zip(ids.iter()) {
+                check_finite(cp.sqdist)?;
+                let d = rank(cp);
+                if best.is_none_or(|b| d < *best_d || (d == *best_d && (i as usize) < b.tri)) {
+                    *best_d = d;
+                    *best = Some(MeshPoint { sqdist: cp.sqdist, point: cp.q, tri: i as usize });
+                }
+            }
+            ids.clear();
+            tris.clear();
+            Ok::<(), Error>(())
+        };
+        let mut stack = vec![(point_gap2(&xf, &m.moved_box(0, &mv)), 0u32)];
+        while let Some((gap, n)) = stack.pop() {
+            if best.is_some() && gap > prune_beyond(best_d) {
+                continue;
+            }
+            let node = &m.nodes[n as usize];
+            if node.count > 0 {
+                for at in node.first as usize..(node.first + node.count) as usize {
+                    ids.push(m.order[at]);
+                    tris.push(m.leaf_triangle_at(at, pose));
+                }
+                if ids.len() >= FLUSH {
+                    flush(&mut ids, &mut tris, &mut best, &mut best_d)?;
+                }
+            } else {
+                // farthest first: the nearest on top
+                let at = stack.len();
+                stack.extend(
+                    (node.first..node.first + node.kids)
+                        .map(|k| (point_gap2(&xf, &m.moved_box(k as usize, &mv)), k)),
+                );
+                stack[at..].sort_by(|p, q| q.0.total_cmp(&p.0));
+            }
+        }
+        if !ids.is_empty() {
+            flush(&mut ids, &mut tris, &mut best, &mut best_d)?;
+        }
+        Ok(best)
+    }
+}
