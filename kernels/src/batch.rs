@@ -240,8 +240,10 @@ impl<T: Real, const K: usize> Batch<T, K> {
         self.cap = cap;
     }
 
-    pub(crate) fn src(&self) -> crate::drv::Src<'_, T> {
-        crate::drv::Src::Soa { data: &self.data, cap: self.cap, base: 0, k: K }
+    /// The padded columns and their capacity: coordinate `j` (0..3K) of primitive `i` is
+    /// `columns()[j * cap + i]`, for the batch driver.
+    pub(crate) fn columns(&self) -> (&[T], usize) {
+        (&self.data, self.cap)
     }
 }
 

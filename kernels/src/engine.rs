@@ -54,7 +54,7 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
         'a: 's,
     {
         match self {
-            Prims::Soa(b) => b.src(),
+            Prims::Soa(b) => Src::of_batch(b),
             Prims::Aos(s) => Src::Aos { flat: s.as_flattened().as_flattened(), k: K },
             Prims::One(p) => Src::One { flat: p.as_flattened(), k: K },
         }
@@ -608,7 +608,7 @@ impl Engine {
     fn exec<T: Real>(&self, mut job: Job<'_, T>) -> PathCounts {
         let n = job.n;
         if self.threads <= 1 || n < Engine::MIN_PARALLEL {
-            T::run_job(self.isa, &mut job);
+            crate::arch::run(self.isa, &mut job);
             return job.counts;
         }
         // Pieces of whole chunks, many per thread, so that a thread that finishes early (or a
@@ -685,7 +685,7 @@ fn run_pieces<T: Real>(isa: Isa, threads: usize, piece: usize, job: Job<'_, T>) 
                 widen,
                 exact,
             };
-            T::run_job(isa, &mut job);
+            crate::arch::run(isa, &mut job);
             mine.add(&job.counts);
         }
         total.lock().unwrap_or_else(|e| e.into_inner()).add(&mine);

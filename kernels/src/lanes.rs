@@ -12,7 +12,6 @@
 //! `#[target_feature]` entry point they compile to single instructions; called from elsewhere
 //! they would be slow, never undefined.
 
-use crate::isa::Token;
 use crate::real::Real;
 
 /// The most lanes of any vector type (AVX-512's f32x16): the size of the driver's lane buffers
@@ -21,11 +20,14 @@ pub(crate) const MAX_LANES: usize = 16;
 
 /// The lane indices of one [`Lanes::gather`] group, prepared once for all its columns: the
 /// indices, their largest, and (for the hardware gathers) as 32-bit offsets, valid when the
-/// column's length fits in `i32` (then every index below it does).
+/// column's length fits in `i32` (then every index below it does). The fields are private:
+/// [`GatherIx::new`] is the only way to make one, so `top` is the largest index and `off` the
+/// indices exactly wherever they fit in `i32`, which the AVX-512 hardware gather's bounds
+/// proof rests on (`crate::arch::x86_simd`).
 pub(crate) struct GatherIx {
-    pub at: [usize; MAX_LANES],
-    pub off: [i32; MAX_LANES],
-    pub top: usize,
+    at: [usize; MAX_LANES],
+    off: [i32; MAX_LANES],
+    top: usize,
 }
 
 impl GatherIx {
@@ -37,13 +39,31 @@ impl GatherIx {
         }
         GatherIx { at, off, top: at.iter().fold(0, |m, &i| m.max(i)) }
     }
+
+    /// The lane indices.
+    #[inline(always)]
+    pub(crate) fn at(&self) -> &[usize; MAX_LANES] {
+        &self.at
+    }
+
+    /// The lane indices as 32-bit offsets (exact where they fit in `i32`).
+    #[inline(always)]
+    pub(crate) fn off(&self) -> &[i32; MAX_LANES] {
+        &self.off
+    }
+
+    /// The largest lane index.
+    #[inline(always)]
+    pub(crate) fn top(&self) -> usize {
+        self.top
+    }
 }
 
 /// [`Lanes::gather`] one lane at a time, through a buffer.
 #[inline(always)]
 pub(crate) fn gather_lanes<L: Lanes>(k: L::K, col: &[L::S], ix: &GatherIx) -> L {
     let mut buf = L::ZEROS;
-    for (slot, &i) in buf.as_mut().iter_mut().zip(&ix.at) {
+    for (slot, &i) in buf.as_mut().iter_mut().zip(ix.at()) {
         *slot = col[i];
     }
     L::load(k, buf.as_ref())
@@ -80,6 +100,19 @@ pub(crate) trait Mask: Copy {
         !self.any()
     }
 }
+
+/// A capability token: a value exists only if this CPU runs the token's instruction set (the
+/// SIMD tokens, in `crate::arch::x86_simd`, have private fields and are made only by runtime
+/// detection). A lane type names its token, and every way to make a vector from nothing takes
+/// one. The entry points of an instruction set are methods of its token
+/// (`crate::arch::dispatch::Entries`).
+pub(crate) trait Token: Copy + 'static {}
+
+/// The token of the portable (scalar) variant: always available.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Portable;
+
+impl Token for Portable {}
 
 /// A vector of `N` lanes of one precision. Every method is `#[inline(always)]` and carries no
 /// target feature: the per-ISA entry point that instantiates an algorithm enables the features.
@@ -296,14 +329,14 @@ macro_rules! scalar_lanes {
         impl Lanes for $t {
             type S = $t;
             type M = bool;
-            type K = crate::isa::Portable;
+            type K = Portable;
             const N: usize = 1;
             type Arr = [$t; 1];
             const ZEROS: [$t; 1] = [0.0];
             const FMA: bool = false;
             #[inline(always)]
             fn token(self) -> Self::K {
-                crate::isa::Portable
+                Portable
             }
             #[inline(always)]
             fn splat(_: Self::K, s: $t) -> Self {
@@ -414,40 +447,40 @@ pub(crate) struct V3<L> {
 
 impl<L: Lanes> V3<L> {
     #[inline(always)]
-    pub fn new(x: L, y: L, z: L) -> Self {
+    pub(crate) fn new(x: L, y: L, z: L) -> Self {
         V3 { x, y, z }
     }
     #[inline(always)]
-    pub fn splat(x: L) -> Self {
+    pub(crate) fn splat(x: L) -> Self {
         V3::new(x, x, x)
     }
     #[inline(always)]
-    pub fn sub(self, o: Self) -> Self {
+    pub(crate) fn sub(self, o: Self) -> Self {
         V3::new(self.x.sub(o.x), self.y.sub(o.y), self.z.sub(o.z))
     }
     #[inline(always)]
-    pub fn add(self, o: Self) -> Self {
+    pub(crate) fn add(self, o: Self) -> Self {
         V3::new(self.x.add(o.x), self.y.add(o.y), self.z.add(o.z))
     }
     #[inline(always)]
-    pub fn neg(self) -> Self {
+    pub(crate) fn neg(self) -> Self {
         V3::new(self.x.neg(), self.y.neg(), self.z.neg())
     }
     #[inline(always)]
-    pub fn scale(self, s: L) -> Self {
+    pub(crate) fn scale(self, s: L) -> Self {
         V3::new(self.x.mul(s), self.y.mul(s), self.z.mul(s))
     }
     /// `self + d * s`, fused where the variant fuses.
     #[inline(always)]
-    pub fn add_scaled(self, d: Self, s: L) -> Self {
+    pub(crate) fn add_scaled(self, d: Self, s: L) -> Self {
         V3::new(d.x.mul_add(s, self.x), d.y.mul_add(s, self.y), d.z.mul_add(s, self.z))
     }
     #[inline(always)]
-    pub fn dot(self, o: Self) -> L {
+    pub(crate) fn dot(self, o: Self) -> L {
         self.x.mul_add(o.x, self.y.mul_add(o.y, self.z.mul(o.z)))
     }
     #[inline(always)]
-    pub fn norm2(self) -> L {
+    pub(crate) fn norm2(self) -> L {
         self.dot(self)
     }
     /// `|self|^2 + m`, `m` the smallest normal number, rounded as [`V3::dot`] rounds: never
@@ -457,12 +490,12 @@ impl<L: Lanes> V3<L> {
     /// operations as [`V3::norm2`], `m` added by the first product's multiply-add; the same
     /// bits unless `|self|^2 < m / u`.
     #[inline(always)]
-    pub fn norm2_up(self) -> L {
+    pub(crate) fn norm2_up(self) -> L {
         let m = Cx::of(self.x).splat(L::S::MIN_POSITIVE);
         self.x.mul_add(self.x, self.y.mul_add(self.y, self.z.mul_add(self.z, m)))
     }
     #[inline(always)]
-    pub fn cross(self, o: Self) -> Self {
+    pub(crate) fn cross(self, o: Self) -> Self {
         V3::new(
             self.y.mul(o.z).sub(self.z.mul(o.y)),
             self.z.mul(o.x).sub(self.x.mul(o.z)),
@@ -472,7 +505,7 @@ impl<L: Lanes> V3<L> {
     /// Cross product with every component computed by [`Lanes::diff_prod`]: accurate even
     /// for nearly parallel vectors.
     #[inline(always)]
-    pub fn cross_accurate(self, o: Self) -> Self {
+    pub(crate) fn cross_accurate(self, o: Self) -> Self {
         V3::new(
             self.y.diff_prod(o.z, self.z, o.y),
             self.z.diff_prod(o.x, self.x, o.z),
@@ -481,19 +514,19 @@ impl<L: Lanes> V3<L> {
     }
     /// Sum of absolute components (an upper bound on the Euclidean norm).
     #[inline(always)]
-    pub fn norm1(self) -> L {
+    pub(crate) fn norm1(self) -> L {
         self.x.abs().add(self.y.abs()).add(self.z.abs())
     }
     /// Largest absolute component.
     #[inline(always)]
-    pub fn norm_inf(self) -> L {
+    pub(crate) fn norm_inf(self) -> L {
         self.x.abs().max(self.y.abs()).max(self.z.abs())
     }
     /// The same direction scaled by a power of two (exactly) so that its largest component is
     /// in [1, 2); 0 stays 0. Used as a projection direction, its norm cannot underflow or
     /// overflow (a direction built from products of small differences can).
     #[inline(always)]
-    pub fn unit_pow2(self) -> Self {
+    pub(crate) fn unit_pow2(self) -> Self {
         let k = Cx::of(self.x);
         let tiny = k.splat(L::S::MIN_POSITIVE);
         // 1/m, m the largest component's power of two, is exact; m >= MIN_POSITIVE keeps it
@@ -519,7 +552,7 @@ impl<L: Lanes> V3<L> {
         self.x.abs().max_exp(self.y.abs()).max_exp(self.z.abs())
     }
     #[inline(always)]
-    pub fn select(m: L::M, t: Self, f: Self) -> Self {
+    pub(crate) fn select(m: L::M, t: Self, f: Self) -> Self {
         V3::new(L::select(m, t.x, f.x), L::select(m, t.y, f.y), L::select(m, t.z, f.z))
     }
 }
@@ -532,51 +565,51 @@ pub(crate) struct Cx<L: Lanes>(pub L::K);
 impl<L: Lanes> Cx<L> {
     /// The token of `x`.
     #[inline(always)]
-    pub fn of(x: L) -> Self {
+    pub(crate) fn of(x: L) -> Self {
         Cx(x.token())
     }
     #[inline(always)]
-    pub fn splat(self, s: L::S) -> L {
+    pub(crate) fn splat(self, s: L::S) -> L {
         L::splat(self.0, s)
     }
     /// A constant given in f64 (rounded to the precision).
     #[inline(always)]
-    pub fn c(self, x: f64) -> L {
+    pub(crate) fn c(self, x: f64) -> L {
         self.splat(L::S::from_f64(x))
     }
     #[inline(always)]
-    pub fn zero(self) -> L {
+    pub(crate) fn zero(self) -> L {
         self.splat(L::S::ZERO)
     }
     #[inline(always)]
-    pub fn one(self) -> L {
+    pub(crate) fn one(self) -> L {
         self.splat(L::S::ONE)
     }
     /// The unit roundoff.
     #[inline(always)]
-    pub fn u(self) -> L {
+    pub(crate) fn u(self) -> L {
         self.splat(L::S::UNIT_ROUNDOFF)
     }
     #[inline(always)]
-    pub fn inf(self) -> L {
+    pub(crate) fn inf(self) -> L {
         self.splat(L::S::INFINITY)
     }
     #[inline(always)]
-    pub fn nan(self) -> L {
+    pub(crate) fn nan(self) -> L {
         self.splat(L::S::NAN)
     }
     /// All lanes true.
     #[inline(always)]
-    pub fn yes(self) -> L::M {
+    pub(crate) fn yes(self) -> L::M {
         self.zero().le(self.zero())
     }
     /// All lanes false.
     #[inline(always)]
-    pub fn no(self) -> L::M {
+    pub(crate) fn no(self) -> L::M {
         self.zero().lt(self.zero())
     }
     #[inline(always)]
-    pub fn v0(self) -> V3<L> {
+    pub(crate) fn v0(self) -> V3<L> {
         V3::splat(self.zero())
     }
 }

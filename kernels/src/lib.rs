@@ -63,10 +63,8 @@
 //! ```compile_fail,E0603
 //! use tridist::drv::Job; // private module
 //! ```
-//! ```compile_fail,E0624
-//! fn reach<T: tridist::Real, J>(job: J) {
-//!     T::run_job(tridist::Isa::Avx2Fma, job); // the seal's method is crate-private
-//! }
+//! ```compile_fail,E0603
+//! use tridist::arch::dispatch::run; // the dispatch is crate-private too
 //! ```
 //!
 //! ## Features
@@ -75,6 +73,9 @@
 //!   step.
 //! * `glam`, `mint`: their vector types are [`AsPoint`]s.
 #![cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+// `unsafe` only where SIMD intrinsics need it: in `arch`, each block with a SAFETY comment.
+#![deny(unsafe_code)]
+#![warn(unreachable_pub)]
 
 // The module names set how long this crate takes to compile (#17; ARCHITECTURE.md,
 // "Compile-time budget"). LLVM's always-inliner takes the callees of a codegen unit in the
@@ -86,6 +87,7 @@
 // tridist::lanes::Lanes>`, a segment of 80 or more characters, after "7tridist"). The test
 // `inline_order` below keeps it so.
 mod algo;
+#[allow(unsafe_code)]
 mod arch;
 mod batch;
 mod drv;

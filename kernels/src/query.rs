@@ -1,7 +1,9 @@
 //! The query registry: the one list of queries. Each line names a query, its kernel (the
 //! algorithm file's type implementing `algo::Kernel`) and a one-line description. From it come
-//! the public [`Query`] enum and its metadata, and every instruction set's entry points
-//! (`crate::isa`, `crate::arch`). The harness, the benches and the CLI enumerate
+//! the public [`Query`] enum and its metadata (here), the algorithm files' module declarations
+//! and [`Query::arity`] (`crate::algo`), and every instruction set's entry points
+//! (`crate::arch`). This module names no other of the crate: the kernel paths in the list are
+//! tokens for the macros that expand it elsewhere. The harness, the benches and the CLI enumerate
 //! [`Query::ALL`]; adding a query is its algorithm file plus one line here (ARCHITECTURE.md).
 
 /// Calls `$m!` with the registry (optionally preceded by `[extra arguments]`): one
@@ -59,15 +61,6 @@ macro_rules! define_query {
             pub fn about(self) -> &'static str {
                 match self {
                     $(Query::$v => $about,)*
-                }
-            }
-
-            /// Points per primitive of the first and the second side (1 point, 2 segment,
-            /// 3 triangle).
-            pub fn arity(self) -> (usize, usize) {
-                use crate::algo::Kernel;
-                match self {
-                    $(Query::$v => (<crate::algo::$m::$k as Kernel>::KA, <crate::algo::$m::$k as Kernel>::KB),)*
                 }
             }
         }

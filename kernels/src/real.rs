@@ -45,10 +45,23 @@ impl Display for Precision {
 }
 
 /// The seal. It lives in a crate-private module, so no other crate can implement or name it;
-/// it also carries what the kernels need of a precision and users do not (bit patterns, the
-/// batch plumbing).
+/// it also carries what the kernels need of a precision and users do not (bit patterns, and
+/// the type witness [`Sealed::by_precision`] through which generic code reaches the entry
+/// points of its precision).
 pub(crate) mod sealed {
-    pub(crate) trait Sealed: Sized + Copy {
+    /// A family of types, one for each precision (`Of<f32>`, `Of<f64>`): what a generic value
+    /// is turned into by [`Sealed::by_precision`].
+    pub(crate) trait Family {
+        type Of<T: 'static>;
+    }
+
+    /// A value of a [`Family`] in its concrete precision.
+    pub(crate) enum ByPrecision<F: Family> {
+        F32(F::Of<f32>),
+        F64(F::Of<f64>),
+    }
+
+    pub(crate) trait Sealed: Sized + Copy + 'static {
         /// Keeps only the exponent bits (power-of-two scaling).
         const EXP_MASK: u64;
         /// Smallest positive subnormal.
@@ -61,35 +74,11 @@ pub(crate) mod sealed {
         /// ([`crate::drv::Packed`]), kept from batch to batch so that a batch does not
         /// allocate and clear it.
         fn pack_spare() -> &'static std::thread::LocalKey<std::cell::RefCell<Vec<Self>>>;
-        /// Runs a batch job on an instruction-set variant (checks availability itself).
-        fn run_job(isa: crate::Isa, job: &mut crate::drv::Job<'_, Self>);
-        /// One pair without a batch (the single queries).
-        fn single(
-            query: crate::Query,
-            a: &[[Self; 3]; 3],
-            b: &[[Self; 3]; 3],
-            prm: &crate::algo::Params<Self>,
-            exact: bool,
-        ) -> crate::drv::Lane<Self>;
-        /// Runs a batch job with a capability token (escalation sub-jobs).
-        fn run_with<K: crate::isa::Token>(k: K, job: &mut crate::drv::Job<'_, Self>);
-        /// Runs the accurate stage of triangle-triangle distance on a job's open pairs with a
-        /// capability token ([`crate::drv::accurate`]).
-        fn accurate_with<K: crate::isa::Token>(
-            k: K,
-            job: &mut crate::drv::Job<'_, Self>,
-            open: &crate::drv::Pending<Self>,
-            still: &mut crate::drv::Pending<Self>,
-        );
-        /// Runs the tight re-certification of a job's open pairs with a capability token
-        /// ([`crate::drv::recert`]).
-        fn recert_with<K: crate::isa::Token>(
-            k: K,
-            job: &mut crate::drv::Job<'_, Self>,
-            open: &crate::drv::Pending<Self>,
-            still: &mut crate::drv::Pending<Self>,
-            sharp: bool,
-        );
+        /// `x` as the value of its concrete precision: a type witness, with no conversion and
+        /// no cost (the match on it is resolved when the caller is instantiated). The dispatch
+        /// (`crate::arch::dispatch`) takes a generic job to its precision's entry points with
+        /// it, so this module names no other of the crate.
+        fn by_precision<F: Family>(x: F::Of<Self>) -> ByPrecision<F>;
         /// The next value toward -inf (toward +inf when `up`); identity on inf and NaN.
         fn step(self, up: bool) -> Self {
             let b = self.bits();
@@ -160,7 +149,7 @@ pub trait Real:
 }
 
 macro_rules! impl_real {
-    ($t:ty, $bits:ty, $mask:expr, $prec:expr, $run:ident, $tokrun:ident, $tokacc:ident, $tokrc:ident) => {
+    ($t:ty, $bits:ty, $mask:expr, $prec:expr, $var:ident) => {
         impl Real for $t {
             const PRECISION: Precision = $prec;
             const UNIT_ROUNDOFF: Self = <$t>::EPSILON / 2.0;
@@ -209,43 +198,15 @@ macro_rules! impl_real {
             fn from_bits64(b: u64) -> Self {
                 <$t>::from_bits(b as $bits)
             }
-            fn run_job(isa: crate::Isa, job: &mut crate::drv::Job<'_, Self>) {
-                crate::isa::$run(isa, job)
-            }
-            fn single(
-                query: crate::Query,
-                a: &[[Self; 3]; 3],
-                b: &[[Self; 3]; 3],
-                prm: &crate::algo::Params<Self>,
-                exact: bool,
-            ) -> crate::drv::Lane<Self> {
-                crate::drv::single::<$t>(query, a, b, prm, exact)
-            }
-            fn run_with<K: crate::isa::Token>(k: K, job: &mut crate::drv::Job<'_, Self>) {
-                k.$tokrun(job)
-            }
-            fn accurate_with<K: crate::isa::Token>(
-                k: K,
-                job: &mut crate::drv::Job<'_, Self>,
-                open: &crate::drv::Pending<Self>,
-                still: &mut crate::drv::Pending<Self>,
-            ) {
-                k.$tokacc(job, open, still)
-            }
-            fn recert_with<K: crate::isa::Token>(
-                k: K,
-                job: &mut crate::drv::Job<'_, Self>,
-                open: &crate::drv::Pending<Self>,
-                still: &mut crate::drv::Pending<Self>,
-                sharp: bool,
-            ) {
-                k.$tokrc(job, open, still, sharp)
+            #[inline(always)]
+            fn by_precision<F: sealed::Family>(x: F::Of<Self>) -> sealed::ByPrecision<F> {
+                sealed::ByPrecision::$var(x)
             }
         }
     };
 }
-impl_real!(f32, u32, 0x7f80_0000, Precision::F32, run_f32, run_f32, accurate_f32, recert_f32);
-impl_real!(f64, u64, 0x7ff0_0000_0000_0000, Precision::F64, run_f64, run_f64, accurate_f64, recert_f64);
+impl_real!(f32, u32, 0x7f80_0000, Precision::F32, F32);
+impl_real!(f64, u64, 0x7ff0_0000_0000_0000, Precision::F64, F64);
 
 #[cfg(test)]
 mod tests {

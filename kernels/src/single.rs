@@ -47,7 +47,7 @@ impl Engine {
             let f = |k: usize| s[if k < s.len() { k } else { 0 }].to_point();
             [f(0), f(1), f(2)]
         };
-        let l = T::single(query, &pad(a), &pad(b), &self.params::<T>(), self.uses_exact());
+        let l = crate::drv::single(query, &pad(a), &pad(b), &self.params::<T>(), self.uses_exact());
         Ok(Answer {
             closest: ClosestPoints { sqdist: l.d, p: l.p, q: l.q },
             interval: Interval { lo: l.lo, hi: l.hi },

@@ -686,7 +686,7 @@ fn lerp3<L: Lanes>(a: [L; 3], b: [L; 3], tau: L) -> [L; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::isa::Portable;
+    use crate::lanes::Portable;
     use rug::Rational;
 
     /// [`gaps`] and [`lower`] on one lane type: local triangles (`s[0] = 0`) of extent

@@ -38,6 +38,21 @@ macro_rules! declare_algorithm_files {
 }
 crate::query::for_each_query!(declare_algorithm_files);
 
+macro_rules! query_arity {
+    ([] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
+        impl crate::Query {
+            /// Points per primitive of the first and the second side (1 point, 2 segment,
+            /// 3 triangle).
+            pub fn arity(self) -> (usize, usize) {
+                match self {
+                    $(crate::Query::$v => (<$m::$k as Kernel>::KA, <$m::$k as Kernel>::KB),)*
+                }
+            }
+        }
+    };
+}
+crate::query::for_each_query!(query_arity);
+
 use crate::lanes::{Cx, Lanes, Mask, V3};
 use crate::real::Real;
 

@@ -3,14 +3,25 @@
 //! rounded down: a lower bound of the exact one) that every pruning test compares with a
 //! search's limit.
 
-use super::*;
+use super::Mesh;
+#[cfg(test)]
+use crate::algo::nodes::Column;
+use crate::algo::nodes::Columns;
+use crate::algo::nodes::Limit;
+use crate::algo::nodes::Moved;
+use crate::algo::nodes::DOWN;
+#[cfg(test)]
+use crate::algo::nodes::ROWS;
+use crate::Error;
+use crate::Real;
+use crate::Triangle;
 
 impl<T: Real> Mesh<T> {
     /// Node `i`'s box moved by `pose` ([`crate::algo::nodes::moved_aabb`], as the node tests'
     /// columns move it).
     pub(super) fn moved_box(&self, i: usize, pose: &Moved) -> ([f64; 3], [f64; 3]) {
         let n = &self.nodes[i];
-        crate::algo::nodes::moved_aabb::<f64>(crate::isa::Portable, pose, &n.lo, &n.hi)
+        crate::algo::nodes::moved_aabb::<f64>(crate::lanes::Portable, pose, &n.lo, &n.hi)
     }
 
     /// The job of computing the moved bounds of nodes `first..first + n` into `out` (row `r`
@@ -278,7 +289,7 @@ impl Moved {
     pub(super) fn column<T: Real>(&self, mesh: &Mesh<T>, i: usize) -> Column {
         let mut col = [0.0; ROWS];
         let mut job = mesh.columns(self, i, 1, &mut col, 1);
-        crate::isa::node_columns(crate::Isa::Scalar, &mut job);
+        crate::arch::node_columns(crate::Isa::Scalar, &mut job);
         col
     }
 

@@ -2,7 +2,17 @@
 //! centres, collapsed to the shape's width, with each node's axis-aligned and oriented box laid
 //! out as rows for the lane-wide node test.
 
-use super::*;
+use super::bounds::{half_area, least, most, tri_box, unite, Aabb, Obb, EMPTY};
+use super::{Bin, Mesh, Node};
+use crate::algo::nodes::MAX_WIDTH;
+use crate::algo::nodes::SC;
+use crate::algo::nodes::SE;
+use crate::algo::nodes::SH;
+use crate::algo::nodes::SHI;
+use crate::algo::nodes::SLO;
+use crate::algo::nodes::SRHO;
+use crate::algo::nodes::SROWS;
+use crate::Real;
 
 impl<T: Real> Mesh<T> {
     pub(super) fn build(&mut self) {

@@ -1,7 +1,18 @@
 //! [`Engine::mesh_contacts`]'s searcher ([`Contacts`]): every triangle pair within the margin,
 //! decided by the kernels, optionally capped to the nearest; and its sorting and threads.
 
-use super::*;
+use super::bounds::reach;
+use super::scratch::{Pending, Side};
+use super::traverse::{check_finite, children, moved, root_visit, roots_apart, walk, Search, Visit};
+use super::{Contact, Mesh, CONTACT_FLUSH, FLUSH};
+use crate::algo::nodes::Limit;
+use crate::engine::Outputs;
+use crate::Engine;
+use crate::Error;
+use crate::Point;
+use crate::Pose;
+use crate::Query;
+use crate::Real;
 
 /// [`Engine::mesh_contacts`]: every pair within reach of the margin, answered by the full
 /// triangle-triangle query ([`Query::TriTri`], distance and closest points in one run) and

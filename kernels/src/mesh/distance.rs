@@ -1,7 +1,14 @@
 //! [`Engine::mesh_distance`]'s searcher ([`Nearest`]): the smallest answer so far, less the
 //! slack, prunes; and how answers are ranked.
 
-use super::*;
+use super::scratch::Pending;
+use super::traverse::{check_finite, Search};
+use super::MeshDistance;
+use crate::algo::nodes::Limit;
+use crate::ClosestPoints;
+use crate::Engine;
+use crate::Error;
+use crate::Real;
 
 impl Engine {
     /// How far above the smallest answer so far [`Engine::mesh_distance`] still looks for a

@@ -1,7 +1,17 @@
 //! [`Engine::mesh_intersect`]'s and [`Engine::mesh_within_margin`]'s searcher ([`FirstHit`]):
 //! stops at the first batch with an intersecting pair, or a pair within the margin.
 
-use super::*;
+use super::bounds::reach;
+use super::contacts::margin_sq;
+use super::scratch::Pending;
+use super::traverse::{check_finite, Search};
+use crate::algo::nodes::Limit;
+use crate::engine::Outputs;
+use crate::Engine;
+use crate::Error;
+use crate::Intersection;
+use crate::Query;
+use crate::Real;
 
 /// [`Engine::mesh_intersect`] and [`Engine::mesh_within_margin`]: stops at the first batch
 /// with a hit, an intersecting pair or (with a margin) a pair within the margin.

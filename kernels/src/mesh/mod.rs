@@ -70,24 +70,21 @@ mod scratch;
 mod tests;
 mod traverse;
 
-#[cfg(test)]
-use crate::algo::nodes::Column;
-use crate::algo::nodes::{
-    Columns, Gaps, LeafTest, Limit, Moved, NodeTest, DOWN, HI, LO, ROWS, SC, SE, SH, SHI, SLO, SRHO, SROWS,
-};
-use crate::engine::Outputs;
-use crate::{ClosestPoints, Engine, Error, Intersection, Point, Pose, Query, Real, Triangle};
-
-use bounds::*;
-#[cfg(test)]
-use build::*;
-use contacts::*;
-use distance::*;
-use intersect::*;
-use scratch::*;
-use traverse::*;
-
 use crate::algo::nodes::{MAX_LEAF, MAX_WIDTH};
+use crate::{Error, Point, Pose, Real, Triangle};
+// The unit tests (`tests.rs`) see every item of the module's files, as they did in one file.
+#[cfg(test)]
+use {
+    crate::algo::nodes::{LeafTest, Limit, Moved, HI, LO, ROWS},
+    crate::{ClosestPoints, Engine, Intersection},
+    bounds::*,
+    build::*,
+    contacts::*,
+    distance::*,
+    intersect::*,
+    scratch::*,
+    traverse::*,
+};
 
 /// The shape of a mesh's tree ([`Mesh::with_shape`]): how many children a node and how many
 /// triangles a leaf holds at most. The splits are the same at every shape (a larger leaf

@@ -1,7 +1,20 @@
 //! The mesh queries of [`Engine`]: each checks its input, moves the roots and runs the one
 //! traversal ([`search`]) with its searcher.
 
-use super::*;
+use super::bounds::point_gap2;
+use super::contacts::{contacts_threaded, sorted, Contacts};
+use super::distance::{prune_beyond, rank, Nearest};
+use super::intersect::FirstHit;
+use super::traverse::{check_finite, search};
+use super::{Contact, Mesh, MeshDistance, MeshPoint, FLUSH};
+use crate::algo::nodes::Moved;
+use crate::ClosestPoints;
+use crate::Engine;
+use crate::Error;
+use crate::Point;
+use crate::Pose;
+use crate::Real;
+use crate::Triangle;
 
 impl Engine {
     /// The closest pair of triangles of two meshes in their poses: squared distance, closest

@@ -2,7 +2,17 @@
 //! ([`Pending`]), each side's moved node bounds and moved leaves ([`Side`]), and the per-thread
 //! node-indexed stamps that make starting a query free ([`Slots`]).
 
-use super::*;
+use super::bounds::{tri_box, Aabb};
+use super::{Mesh, FLUSH};
+use crate::algo::nodes::LeafTest;
+use crate::algo::nodes::Moved;
+use crate::algo::nodes::HI;
+use crate::algo::nodes::LO;
+use crate::algo::nodes::MAX_LEAF;
+use crate::algo::nodes::ROWS;
+use crate::Pose;
+use crate::Real;
+use crate::Triangle;
 
 /// Candidate triangle pairs, moved, waiting for the kernels.
 pub(super) struct Pending<T> {
@@ -22,7 +32,7 @@ impl<T: Real> Pending<T> {
     pub(super) fn push_leaves(&mut self, isa: crate::Isa, la: Leaf<'_, T>, lb: Leaf<'_, T>, limit: f64) {
         let t = LeafTest { a: la.rows, na: la.ids.len(), b: lb.rows, nb: lb.ids.len(), limit };
         let mut near = 0;
-        crate::isa::leaf_pairs(isa, &t, &mut near);
+        crate::arch::leaf_pairs(isa, &t, &mut near);
         while near != 0 {
             let k = near.trailing_zeros() as usize;
             near &= near - 1;
@@ -152,7 +162,7 @@ impl<'m, T: Real> Side<'m, T> {
         let at = self.new_group();
         let out = &mut self.slots.groups[at..at + size];
         let mut job = self.mesh.columns(&self.mv, i as usize, self.stride, out, self.stride);
-        crate::isa::node_columns(self.isa, &mut job);
+        crate::arch::node_columns(self.isa, &mut job);
         self.slots.entry(i)[1] = (at / size) as u32;
         at
     }
@@ -185,7 +195,7 @@ impl<'m, T: Real> Side<'m, T> {
         self.slots.entry(i)[4] = (at / size) as u32;
         let out = &mut self.slots.groups[at..at + size];
         let mut job = self.mesh.columns(&self.mv, node.first as usize, self.stride, out, self.stride);
-        crate::isa::node_columns(self.isa, &mut job);
+        crate::arch::node_columns(self.isa, &mut job);
         for j in 0..node.kids {
             let e = self.slots.entry(node.first + j);
             if e[1] == u32::MAX {

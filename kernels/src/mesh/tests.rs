@@ -236,7 +236,7 @@ fn leaf_pairs_keep_the_pairs_the_scalar_box_gap_keeps_on_every_isa() {
             let t = LeafTest { a: &ra, na, b: &rb, nb, limit };
             for &isa in &isas {
                 let mut got = u64::MAX;
-                crate::isa::leaf_pairs(isa, &t, &mut got);
+                crate::arch::leaf_pairs(isa, &t, &mut got);
                 assert_eq!(got, want, "{isa}: case {case}, {na} x {nb} triangles, limit {limit:e}");
             }
         }
@@ -269,10 +269,10 @@ fn check_columns<T: crate::Real>(m: &super::Mesh<T>, pose: &crate::Pose<T>) -> u
     for p in (0..m.nodes.len()).filter(|&p| m.nodes[p].count == 0) {
         let first = m.nodes[p].first as usize;
         let mut want = vec![0.0; ROWS * stride];
-        crate::isa::node_columns(crate::Isa::Scalar, &mut m.columns(&mv, first, stride, &mut want, stride));
+        crate::arch::node_columns(crate::Isa::Scalar, &mut m.columns(&mv, first, stride, &mut want, stride));
         for &isa in &isas {
             let mut got = vec![0.0; ROWS * stride];
-            crate::isa::node_columns(isa, &mut m.columns(&mv, first, stride, &mut got, stride));
+            crate::arch::node_columns(isa, &mut m.columns(&mv, first, stride, &mut got, stride));
             for (r, (g, w)) in got.iter().zip(&want).enumerate() {
                 assert_eq!(
                     g.to_bits(),

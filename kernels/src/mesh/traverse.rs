@@ -2,7 +2,19 @@
 //! first or best first as the searcher ([`Search`]) asks, split at the larger node, pruned by
 //! the lane-wide node test, leaf pairs gathered into batches for the kernels.
 
-use super::*;
+use super::bounds::{box_gap2, magnitude};
+use super::scratch::{Pending, Side};
+use super::{Mesh, Node, FLUSH};
+use crate::algo::nodes::Gaps;
+use crate::algo::nodes::Limit;
+use crate::algo::nodes::Moved;
+use crate::algo::nodes::NodeTest;
+use crate::algo::nodes::MAX_WIDTH;
+use crate::algo::nodes::ROWS;
+use crate::Engine;
+use crate::Error;
+use crate::Pose;
+use crate::Real;
 
 /// The children of internal node `p` of `side` against node `f` of `other`: the pairs not
 /// pruned (`pair(child)` names them), into `out` with their lower bounds, by the node test of
@@ -44,7 +56,7 @@ pub(super) fn node_test<T: Real>(
         limit,
     };
     let mut g = Gaps::new();
-    crate::isa::node_gaps(isa, &t, &mut g);
+    crate::arch::node_gaps(isa, &t, &mut g);
     g
 }
 

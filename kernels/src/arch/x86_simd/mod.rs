@@ -19,11 +19,9 @@
 
 use core::arch::x86_64::*;
 
-use crate::algo::nodes::{Columns, Gaps, LeafTest, NodeTest};
-use crate::drv::{Job, Pending};
-use crate::isa::{entry_modules, rare_modules, Isa, Token};
+use crate::isa::Isa;
+use crate::lanes::Token;
 use crate::lanes::{GatherIx, Lanes, Mask};
-use crate::query::{for_each_query, Query};
 
 /// Proof that SSE4.1 is available.
 #[derive(Clone, Copy, Debug)]
@@ -85,42 +83,66 @@ impl Avx512Vl {
 }
 
 /// Tokens that prove SSE4.1 (the 128-bit types).
-pub(crate) trait HasSse41: Token {}
-impl HasSse41 for Sse41 {}
+///
+/// # Safety
+/// A value of an implementing type may exist only where the CPU runs SSE4.1: the vector types
+/// run its instructions on the strength of holding one.
+pub(crate) unsafe trait HasSse41: Token {}
+// SAFETY: `Sse41` is made only by `Sse41::detect`, after runtime detection found SSE4.1.
+unsafe impl HasSse41 for Sse41 {}
 
 /// Tokens that prove AVX (the 256-bit types); `FMA` when they also prove FMA.
-pub(crate) trait HasAvx: Token {
+///
+/// # Safety
+/// A value of an implementing type may exist only where the CPU runs AVX, and FMA, AVX2 and
+/// AVX-512F with VL where the constants below say so: the vector types run those
+/// instructions on the strength of holding one.
+pub(crate) unsafe trait HasAvx: Token {
     const FMA: bool;
     /// Does the token also prove AVX2 (the 256-bit integer instructions)?
     const AVX2: bool;
     /// Does the token also prove AVX-512F and VL (the 256-bit register compress)?
     const VL: bool = false;
 }
+// SAFETY: `Avx` is made only by `Avx::detect`, after runtime detection found AVX; it claims
+// neither FMA nor AVX2.
 #[cfg(feature = "avx")]
-impl HasAvx for Avx {
+unsafe impl HasAvx for Avx {
     const FMA: bool = false;
     const AVX2: bool = false;
 }
-impl HasAvx for Avx2Fma {
+// SAFETY: `Avx2Fma` is made only by `Avx2Fma::detect`, after runtime detection found AVX, AVX2
+// and FMA.
+unsafe impl HasAvx for Avx2Fma {
     const FMA: bool = true;
     const AVX2: bool = true;
 }
-/// (AVX-512VL's entry points are the 256-bit types with 32 registers.)
+// SAFETY: `Avx512Vl` is made only by `Avx512Vl::detect`, after runtime detection found AVX,
+// AVX2, FMA, AVX-512F and AVX-512VL. (AVX-512VL's entry points are the 256-bit types with 32
+// registers.)
 #[cfg(feature = "avx512vl")]
-impl HasAvx for Avx512Vl {
+unsafe impl HasAvx for Avx512Vl {
     const FMA: bool = true;
     const AVX2: bool = true;
     const VL: bool = true;
 }
-/// (The AVX-512 entry points run the mesh node test on the 256-bit types.)
-impl HasAvx for Avx512 {
+// SAFETY: `Avx512` is made only by `Avx512::detect`, after runtime detection found AVX, AVX2,
+// FMA and AVX-512F; it does not claim VL. (The AVX-512 entry points run the mesh node test on
+// the 256-bit types.)
+unsafe impl HasAvx for Avx512 {
     const FMA: bool = true;
     const AVX2: bool = true;
 }
 
 /// Tokens that prove AVX-512F (the 512-bit types, always fused).
-pub(crate) trait HasAvx512: Token {}
-impl HasAvx512 for Avx512 {}
+///
+/// # Safety
+/// A value of an implementing type may exist only where the CPU runs AVX-512F (with AVX2 and
+/// FMA).
+pub(crate) unsafe trait HasAvx512: Token {}
+// SAFETY: `Avx512` is made only by `Avx512::detect`, after runtime detection found AVX-512F,
+// AVX2 and FMA.
+unsafe impl HasAvx512 for Avx512 {}
 
 macro_rules! mask_type {
     ($name:ident, $cap:ident, $reg:ty, $and:ident, $or:ident, $andnot:ident, $xor:ident, $movemask:ident, $cast:ident, $set1:ident, $full:expr) => {
@@ -672,15 +694,16 @@ macro_rules! gather512 {
     ($name:ident, $s:ty, $reg:ty, $n:expr, $ix:ty, $load_ix:ident, $gather:ident, $scale:expr) => {
         #[inline(always)]
         fn $name<K: HasAvx512>(_: K, col: &[$s], ix: &GatherIx) -> Option<$reg> {
-            if ix.top >= col.len() || col.len() > i32::MAX as usize {
+            if ix.top() >= col.len() || col.len() > i32::MAX as usize {
                 return None;
             }
-            // SAFETY: every offset is at most `ix.top`, below `col.len()` (checked above),
-            // and `ix.off` holds them exactly as `col.len()` fits in i32, so each lane reads an
-            // element of `col`; `ix.off` has at least the index vector's size; the first
+            // SAFETY: every offset is at most `ix.top()`, below `col.len()` (checked above),
+            // and `ix.off()` holds them exactly as `col.len()` fits in i32 (`GatherIx::new`, its
+            // fields private), so each lane reads an
+            // element of `col`; `ix.off()` has at least the index vector's size; the first
             // argument is a token: detection found AVX-512F (module docs).
             Some(unsafe {
-                let ix: $ix = $load_ix(ix.off.as_ptr().cast());
+                let ix: $ix = $load_ix(ix.off().as_ptr().cast());
                 $gather::<$scale>(ix, col.as_ptr().cast())
             })
         }
@@ -809,352 +832,6 @@ vec_type!(
     compress_on = true
 );
 
-/// The entry points of one instruction set: for each query and precision a
-/// `#[target_feature]` function instantiating the driver with the token's lane types, each in a
-/// module of its own (`crate::isa::entry_modules`). The last argument says where the rare paths
-/// run (`crate::drv::accurate`, `crate::drv::recert`): `own` (entry points of this instruction
-/// set, `crate::isa::rare_modules`), `sse41` (AVX, whose bits are SSE4.1's: on SSE4.1, or the
-/// portable code, the same bits, where detection does not find SSE4.1) or `avx2fma` (AVX-512VL,
-/// whose bits and lanes are AVX2+FMA's).
-macro_rules! simd_entries {
-    ([($tok:ty), ($feat:literal), ($l32:ty), ($l64:ty), ($node:ty), ($acc:ident)] $($v:ident, $name:literal, $m:ident :: $k:ident, $about:literal;)*) => {
-        entry_modules!(p32, f32, $tok, target_feature(enable = $feat), $l32, $($v, $m::$k;)*);
-        entry_modules!(p64, f64, $tok, target_feature(enable = $feat), $l64, $($v, $m::$k;)*);
-        rare_entries!($acc, $tok, $feat, $l32, $l64);
-        impl Token for $tok {
-            fn accurate_f32(self, job: &mut Job<'_, f32>, open: &Pending<f32>, still: &mut Pending<f32>) {
-                rare_on!($acc, self, accurate_f32, acc32, job, open, still)
-            }
-            fn accurate_f64(self, job: &mut Job<'_, f64>, open: &Pending<f64>, still: &mut Pending<f64>) {
-                rare_on!($acc, self, accurate_f64, acc64, job, open, still)
-            }
-            fn recert_f32(self, job: &mut Job<'_, f32>, open: &Pending<f32>, still: &mut Pending<f32>, sharp: bool) {
-                rare_on!($acc, self, recert_f32, rc32, job, open, still, sharp)
-            }
-            fn recert_f64(self, job: &mut Job<'_, f64>, open: &Pending<f64>, still: &mut Pending<f64>, sharp: bool) {
-                rare_on!($acc, self, recert_f64, rc64, job, open, still, sharp)
-            }
-            fn run_f32(self, job: &mut Job<'_, f32>) {
-                match job.query {
-                    // SAFETY: `self` is a token of this instruction set: detection found every
-                    // feature the entry point enables.
-                    $(Query::$v => unsafe { p32::$v::run(self, job) },)*
-                }
-            }
-            fn run_f64(self, job: &mut Job<'_, f64>) {
-                match job.query {
-                    // SAFETY: as above.
-                    $(Query::$v => unsafe { p64::$v::run(self, job) },)*
-                }
-            }
-            fn node_gaps(self, t: &NodeTest<'_>, out: &mut Gaps) {
-                // SAFETY: as above.
-                unsafe { node_gaps(self, t, out) }
-            }
-            fn node_columns(self, job: &mut Columns<'_>) {
-                // SAFETY: as above.
-                unsafe { node_columns(self, job) }
-            }
-            fn leaf_pairs(self, t: &LeafTest<'_>, out: &mut u64) {
-                // SAFETY: as above.
-                unsafe { leaf_pairs(self, t, out) }
-            }
-        }
-        /// The mesh traversal's node test with the instruction set enabled.
-        #[target_feature(enable = $feat)]
-        fn node_gaps(k: $tok, t: &NodeTest<'_>, out: &mut Gaps) {
-            crate::algo::nodes::gaps::<$node>(k, t, out)
-        }
-        /// The mesh traversal's moved node bounds with the instruction set enabled.
-        #[target_feature(enable = $feat)]
-        fn node_columns(k: $tok, job: &mut Columns<'_>) {
-            crate::algo::nodes::columns::<$node>(k, job)
-        }
-        /// The mesh traversal's leaf test with the instruction set enabled.
-        #[target_feature(enable = $feat)]
-        fn leaf_pairs(k: $tok, t: &LeafTest<'_>, out: &mut u64) {
-            crate::algo::nodes::leaf_pairs::<$node>(k, t, out)
-        }
-    };
-}
-
-/// The rare paths' entry points (`crate::isa::rare_modules`) of an instruction set that
-/// runs them itself (`own`).
-macro_rules! rare_entries {
-    (own, $tok:ty, $feat:literal, $l32:ty, $l64:ty) => {
-        rare_modules!($tok, target_feature(enable = $feat), $l32, $l64);
-    };
-    ($other:ident, $tok:ty, $feat:literal, $l32:ty, $l64:ty) => {};
-}
-
-/// A rare path of a token's job (the accurate stage, the tight re-certification): its own entry
-/// point (`own`), or the method of the same name on the token whose bits are the same
-/// (`sse41`, falling back to the portable code; `avx2fma`).
-macro_rules! rare_on {
-    (own, $k:expr, $f:ident, $m:ident, $($a:ident),*) => {
-        // SAFETY: `$k` is a token of this instruction set: detection found every feature the
-        // entry point enables.
-        unsafe { $m::run($k, $($a),*) }
-    };
-    (sse41, $k:expr, $f:ident, $m:ident, $($a:ident),*) => {
-        match Sse41::detect() {
-            Some(k) => k.$f($($a),*),
-            None => crate::isa::Portable.$f($($a),*),
-        }
-    };
-    (avx2fma, $k:expr, $f:ident, $m:ident, $($a:ident),*) => {
-        $k.avx2fma().$f($($a),*)
-    };
-}
-
-// One module per instruction set: the compiler partitions code units by module, so the
-// entry points of different instruction sets are optimised in parallel.
-mod sse41 {
-    use super::*;
-    for_each_query!(simd_entries, (Sse41), ("sse4.1"), (F32x4<Sse41>), (F64x2<Sse41>), (F64x2<Sse41>), (own));
-}
-#[cfg(feature = "avx")]
-mod avx {
-    use super::*;
-    for_each_query!(simd_entries, (Avx), ("avx"), (F32x8<Avx>), (F64x4<Avx>), (F64x4<Avx>), (sse41));
-}
-mod avx2fma {
-    use super::*;
-    for_each_query!(
-        simd_entries,
-        (Avx2Fma),
-        ("avx2,fma"),
-        (F32x8<Avx2Fma>),
-        (F64x4<Avx2Fma>),
-        (F64x4<Avx2Fma>),
-        (own)
-    );
-}
-/// [`Avx2Fma`]'s vector types with AVX-512VL enabled: the same intrinsics, encoded with EVEX
-/// where that helps, so the compiler has 32 vector registers instead of 16 (`Isa::Avx512Vl`).
-#[cfg(feature = "avx512vl")]
-mod avx512vl {
-    use super::*;
-    for_each_query!(
-        simd_entries,
-        (Avx512Vl),
-        ("avx512f,avx512vl,avx2,fma"),
-        (F32x8<Avx512Vl>),
-        (F64x4<Avx512Vl>),
-        (F64x4<Avx512Vl>),
-        (avx2fma)
-    );
-}
-mod avx512 {
-    use super::*;
-    for_each_query!(
-        simd_entries,
-        (Avx512),
-        ("avx512f,avx2,fma"),
-        (F32x16<Avx512>),
-        (F64x8<Avx512>),
-        (F64x4<Avx512>),
-        (own)
-    );
-}
-
+mod entries;
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::isa::Portable;
-    use crate::lanes::{MAX_LANES, V3};
-    use crate::real::sealed::Sealed;
-    use crate::real::Real;
-
-    /// Every exponent field (subnormals, normals, inf and NaN) with four mantissas and both signs.
-    fn samples<S: Real>() -> Vec<S> {
-        let mant = S::EXP_MASK.trailing_zeros();
-        let mut out = Vec::new();
-        for e in 0..=S::EXP_MASK >> mant {
-            for m in [0, 1, 1 << (mant - 1), (1 << mant) - 1] {
-                for sign in [0, 1 << (S::WIDTH - 1)] {
-                    out.push(S::from_bits64(sign | e << mant | m));
-                }
-            }
-        }
-        out
-    }
-
-    /// Runs `$check::<L>(token)` for every vector type whose instruction set this CPU has (each
-    /// test runs the scalar types itself, with the count it expects).
-    macro_rules! on_every_vector_type {
-        ($check:ident) => {
-            if let Some(k) = Sse41::detect() {
-                $check::<F32x4<Sse41>>(k);
-                $check::<F64x2<Sse41>>(k);
-            }
-            #[cfg(feature = "avx")]
-            if let Some(k) = Avx::detect() {
-                $check::<F32x8<Avx>>(k);
-                $check::<F64x4<Avx>>(k);
-            }
-            if let Some(k) = Avx2Fma::detect() {
-                $check::<F32x8<Avx2Fma>>(k);
-                $check::<F64x4<Avx2Fma>>(k);
-            }
-            #[cfg(feature = "avx512vl")]
-            if let Some(k) = Avx512Vl::detect() {
-                $check::<F32x8<Avx512Vl>>(k);
-                $check::<F64x4<Avx512Vl>>(k);
-            }
-            if let Some(k) = Avx512::detect() {
-                $check::<F32x16<Avx512>>(k);
-                $check::<F64x8<Avx512>>(k);
-            }
-        };
-    }
-
-    /// `recip_exponent` is `1 / exponent` bit for bit, lane by lane, for every input.
-    fn recip_exponent_is_exact<L: Lanes>(k: L::K) -> usize {
-        let xs = samples::<L::S>();
-        for part in xs.chunks(L::N) {
-            let mut buf = [L::S::ZERO; MAX_LANES];
-            buf[..part.len()].copy_from_slice(part);
-            let x = L::load(k, &buf);
-            let (mut got, mut want) = ([L::S::ZERO; MAX_LANES], [L::S::ZERO; MAX_LANES]);
-            x.recip_exponent().store(&mut got);
-            L::splat(k, L::S::ONE).div(x.exponent()).store(&mut want);
-            for (l, &xl) in part.iter().enumerate() {
-                assert_eq!(got[l].bits(), want[l].bits(), "{} lanes, input bits {:#x}", L::N, xl.bits());
-            }
-        }
-        xs.len()
-    }
-
-    /// `max_exp` of two non-negative values has the larger exponent field, a clear sign, and
-    /// all exponent bits set exactly when either operand's are (inf or NaN), lane by lane; it
-    /// is the larger value itself for finite operands where the type says so
-    /// (`MAX_EXP_EXACT`).
-    /// Every non-negative sample against every one a fixed stride away, for several strides.
-    fn max_exp_takes_the_larger_exponent<L: Lanes>(k: L::K) -> usize {
-        let xs: Vec<L::S> =
-            samples::<L::S>().into_iter().filter(|x| x.bits() >> (L::S::WIDTH - 1) == 0).collect();
-        let field = |x: L::S| x.bits() & L::S::EXP_MASK;
-        let mut checked = 0;
-        for stride in [0, 1, 3, 8, 61, 255, 1000, 4093] {
-            let ys: Vec<L::S> = (0..xs.len()).map(|i| xs[(i + stride) % xs.len()]).collect();
-            for (px, py) in xs.chunks(L::N).zip(ys.chunks(L::N)) {
-                let (mut bx, mut by) = ([L::S::ZERO; MAX_LANES], [L::S::ZERO; MAX_LANES]);
-                bx[..px.len()].copy_from_slice(px);
-                by[..py.len()].copy_from_slice(py);
-                let mut got = [L::S::ZERO; MAX_LANES];
-                L::load(k, &bx).max_exp(L::load(k, &by)).store(&mut got);
-                for l in 0..px.len() {
-                    let (x, y, g) = (px[l], py[l], got[l]);
-                    let what =
-                        format!("{} lanes, {:#x} and {:#x} gave {:#x}", L::N, x.bits(), y.bits(), g.bits());
-                    assert_eq!(field(g), field(x).max(field(y)), "{what}");
-                    assert_eq!(g.bits() >> (L::S::WIDTH - 1), 0, "sign set: {what}");
-                    if L::MAX_EXP_EXACT && field(x) != L::S::EXP_MASK && field(y) != L::S::EXP_MASK {
-                        let max = if x.bits() > y.bits() { x } else { y };
-                        assert_eq!(g.bits(), max.bits(), "not the maximum: {what}");
-                    }
-                    checked += 1;
-                }
-            }
-        }
-        checked
-    }
-
-    /// `V3::unit_pow2` gives every lane its largest component in [1, 2) (0 stays 0), bit for
-    /// bit the scalar answer, whatever the other lanes hold: finite samples of every exponent
-    /// (subnormals among them, which take the second step) mixed across lanes.
-    fn unit_pow2_is_lane_by_lane<L: Lanes>(k: L::K) -> usize
-    where
-        L::S: Lanes<S = L::S>,
-    {
-        let xs: Vec<L::S> =
-            samples::<L::S>().into_iter().filter(|x| x.bits() & L::S::EXP_MASK != L::S::EXP_MASK).collect();
-        let mut checked = 0;
-        for stride in [1, 7, 97] {
-            let comp = |i: usize, c: usize| xs[(i * stride + c) % xs.len()];
-            for base in (0..xs.len()).step_by(L::N) {
-                let mut buf = [[L::S::ZERO; MAX_LANES]; 3];
-                for l in 0..L::N {
-                    for (c, b) in buf.iter_mut().enumerate() {
-                        b[l] = comp(base + l, c);
-                    }
-                }
-                let v = V3::new(L::load(k, &buf[0]), L::load(k, &buf[1]), L::load(k, &buf[2])).unit_pow2();
-                let mut got = [[L::S::ZERO; MAX_LANES]; 3];
-                v.x.store(&mut got[0]);
-                v.y.store(&mut got[1]);
-                v.z.store(&mut got[2]);
-                for l in 0..L::N {
-                    let one = V3::new(buf[0][l], buf[1][l], buf[2][l]).unit_pow2();
-                    let want = [one.x, one.y, one.z];
-                    for c in 0..3 {
-                        assert_eq!(got[c][l].bits(), want[c].bits(), "{} lanes, lane {l} of {base}", L::N);
-                    }
-                    let absb = |x: L::S| L::S::from_bits64(x.bits() & !(1u64 << (L::S::WIDTH - 1)));
-                    let m = want.iter().fold(L::S::ZERO, |m, &x| if absb(x) > m { absb(x) } else { m });
-                    let all_zero = [buf[0][l], buf[1][l], buf[2][l]].iter().all(|&x| absb(x) == L::S::ZERO);
-                    assert!(
-                        all_zero || (m >= L::S::ONE && m < L::S::from_f64(2.0)),
-                        "{m:?} from lane {l} of {base}"
-                    );
-                    checked += 1;
-                }
-            }
-        }
-        checked
-    }
-
-    #[test]
-    fn unit_pow2_scales_each_lane_on_its_own() {
-        assert!(unit_pow2_is_lane_by_lane::<f32>(Portable) > 0);
-        assert!(unit_pow2_is_lane_by_lane::<f64>(Portable) > 0);
-        on_every_vector_type!(unit_pow2_is_lane_by_lane);
-    }
-
-    #[test]
-    fn max_exp_takes_the_larger_exponent_on_every_lane_type() {
-        assert_eq!(max_exp_takes_the_larger_exponent::<f32>(Portable), 8 * 256 * 4);
-        assert_eq!(max_exp_takes_the_larger_exponent::<f64>(Portable), 8 * 2048 * 4);
-        on_every_vector_type!(max_exp_takes_the_larger_exponent);
-    }
-
-    /// `clamp01` of every non-NaN sample (every exponent, both signs, zeros, infinities) is
-    /// the clamp to [0, 1] bit for bit, `+0` for negatives and `-0`, lane by lane.
-    fn clamp01_is_the_clamp<L: Lanes>(k: L::K) -> usize {
-        let xs: Vec<L::S> = samples::<L::S>().into_iter().filter(|x| !x.is_nan()).collect();
-        for part in xs.chunks(L::N) {
-            let mut buf = [L::S::ZERO; MAX_LANES];
-            buf[..part.len()].copy_from_slice(part);
-            let mut got = [L::S::ZERO; MAX_LANES];
-            L::load(k, &buf).clamp01().store(&mut got);
-            for (l, &x) in part.iter().enumerate() {
-                let want = if x > L::S::ZERO {
-                    if x < L::S::ONE {
-                        x
-                    } else {
-                        L::S::ONE
-                    }
-                } else {
-                    L::S::ZERO
-                };
-                assert_eq!(got[l].bits(), want.bits(), "{} lanes, input {x:?}", L::N);
-            }
-        }
-        xs.len()
-    }
-
-    #[test]
-    fn clamp01_clamps_every_value_on_every_lane_type() {
-        assert_eq!(clamp01_is_the_clamp::<f32>(Portable), 256 * 8 - 6);
-        assert_eq!(clamp01_is_the_clamp::<f64>(Portable), 2048 * 8 - 6);
-        on_every_vector_type!(clamp01_is_the_clamp);
-    }
-
-    #[test]
-    fn recip_exponent_is_the_exact_reciprocal_on_every_lane_type() {
-        assert_eq!(recip_exponent_is_exact::<f32>(Portable), 256 * 8);
-        assert_eq!(recip_exponent_is_exact::<f64>(Portable), 2048 * 8);
-        on_every_vector_type!(recip_exponent_is_exact);
-    }
-}
+mod tests;
