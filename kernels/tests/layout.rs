@@ -205,7 +205,11 @@ fn paths(code: &str) -> Vec<(String, Vec<String>)> {
     out
 }
 
-fn graph() -> (BTreeMap<String, BTreeSet<String>>, Vec<(String, usize)>) {
+/// Each module and the modules it imports.
+type Graph = BTreeMap<String, BTreeSet<String>>;
+
+/// The graph, and every source file with its line count.
+fn graph() -> (Graph, Vec<(String, usize)>) {
     let dir = src_dir();
     let mut files = vec![];
     rs_files(&dir, &mut files);
