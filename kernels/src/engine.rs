@@ -101,6 +101,7 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 /// The penalty method is never escalated (the caller chose an approximation): its interval
 /// says how far off it is.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Tolerance {
     /// In units of `u * S`.
     pub scaled: f64,
@@ -119,15 +120,15 @@ impl Tolerance {
     pub const EXACT: Tolerance = Tolerance { scaled: 0.0, absolute: 0.0, relative: 0.0 };
 
     /// `k * u * S`.
-    pub fn scaled(k: f64) -> Tolerance {
+    pub const fn scaled(k: f64) -> Tolerance {
         Tolerance { scaled: k, absolute: 0.0, relative: 0.0 }
     }
     /// An absolute distance.
-    pub fn absolute(x: f64) -> Tolerance {
+    pub const fn absolute(x: f64) -> Tolerance {
         Tolerance { scaled: 0.0, absolute: x, relative: 0.0 }
     }
     /// Relative to the distance.
-    pub fn relative(r: f64) -> Tolerance {
+    pub const fn relative(r: f64) -> Tolerance {
         Tolerance { scaled: 0.0, absolute: 0.0, relative: r }
     }
 
@@ -304,18 +305,21 @@ pub const ISA_ENV: &str = "TRIDIST_ISA";
 // (checked when the crate compiles: pieces are whole chunks of the driver)
 const _: () = assert!(Engine::PIECE.is_multiple_of(crate::drv::CHUNK));
 
+/// Building an engine: every setter takes the engine by value and returns the changed one.
+/// Those whose argument can be invalid ([`Engine::new`], [`Engine::tolerance`],
+/// [`Engine::margin`], [`Engine::penalty`]) check it there and return `Result<Engine, Error>`,
+/// so that a query never fails on a setting; the others ([`Engine::threads`],
+/// [`Engine::exact`], [`Engine::quick_stage`]) cannot fail and return `Engine`.
 impl Engine {
     /// Pieces of a batch split over threads ([`Engine::threads`]) are multiples of this many
     /// pairs (a multiple of the SoA padding and of the driver's chunk): each piece costs a lock,
     /// an entry point's set-up and its own open-pair lists, so on small batches fewer pieces
-    /// win. 2 threads on 4000 nearby Armadillo pairs (pieces of 64, 256, 512 and 1024 pairs: 16
-    /// to 4 pieces a thread): 121-127, 136-139, 141-146 and 142-144 M/s; random pairs, 34-36 M/s
-    /// at each of 256 to 1024 (`spin tri_tri arm_nearby|random f32 avx2fma 1 4000 2`, builds
-    /// alternated, four or five rounds).
+    /// win (`docs/notes/kernel-speed.md` in the repository has the measurements). May change
+    /// in a minor version.
     pub const PIECE: usize = 512;
 
     /// Batches below this many pairs stay on the calling thread whatever [`Engine::threads`]
-    /// says.
+    /// says. May change in a minor version.
     pub const MIN_PARALLEL: usize = 2048;
 
     /// How long the calling thread of a split batch waits awake for the helpers' last pieces
@@ -384,7 +388,7 @@ impl Engine {
     /// (`TRIDIST_ISA=avx2fma|avx512 spin mesh distance|contacts|intersect 2|5|9 f32 1 1`,
     /// Armadillo against fandisk: distance at pose 9 0.376 against 0.386 ms, contacts at
     /// pose 5 13.2 against 14.0 ms); the 8 lanes of [`Isa::Avx2Fma`] with AVX-512VL's 32
-    /// registers were faster again (ARCHITECTURE.md, "The same 8 lanes with 32 registers").
+    /// registers were faster again (docs/notes/kernel-speed.md, "The same 8 lanes with 32 registers").
     pub(crate) fn for_small_batches(&self) -> Engine {
         match self.isa {
             Isa::Avx512 if Isa::Avx512Vl.is_available() => Engine { isa: Isa::Avx512Vl, ..*self },

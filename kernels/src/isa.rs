@@ -6,6 +6,7 @@ use std::sync::OnceLock;
 /// An instruction-set variant. Every variant runs the same algorithms (written once over a lane
 /// trait); they differ in lane count and in whether `a*b+c` is fused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[non_exhaustive]
 pub enum Isa {
     /// One lane, plain `f32`/`f64` arithmetic, never fused. Runs everywhere.
     Scalar,
@@ -20,11 +21,11 @@ pub enum Isa {
     /// AVX-512 (F and VL) on 256-bit vectors: [`Isa::Avx2Fma`]'s f32x8 and f64x4, compiled with
     /// the 32 vector registers that AVX-512's encoding (EVEX) gives 256-bit instructions, where
     /// AVX2 has 16, so fewer values spill to the stack; bit for bit that variant's answers
-    /// (tested). On the AMD EPYC (Zen 4) of the reports it runs f32 batches that the quick stage
-    /// answers faster than [`Isa::Avx512`]'s 16 lanes (ARCHITECTURE.md, "Where the kernels'
-    /// time goes"); mesh queries on [`Isa::Avx512`] run their small leaf batches and node
-    /// tests on it. Compiled only with the crate feature `avx512vl` (default off: it adds about
-    /// a fifth to the build time; without it those run on [`Isa::Avx2Fma`]).
+    /// (tested). Where the quick stage answers most pairs it can be faster than
+    /// [`Isa::Avx512`]'s 16 lanes (`reports/THROUGHPUT.md` measures both on the report's CPU);
+    /// mesh queries on [`Isa::Avx512`] run their small leaf batches and node tests on it.
+    /// Compiled only with the crate feature `avx512vl` (default off for build time; without it
+    /// those run on [`Isa::Avx2Fma`]).
     Avx512Vl,
     /// AVX-512 (F, with AVX2 and FMA): f32x16, f64x8, fused like [`Isa::Avx2Fma`], so every
     /// answer is bit for bit that variant's (tested); only the lane count differs. (Mesh

@@ -77,15 +77,8 @@
 #![deny(unsafe_code)]
 #![warn(unreachable_pub)]
 
-// The module names set how long this crate takes to compile (#17; ARCHITECTURE.md,
-// "Compile-time budget"). LLVM's always-inliner takes the callees of a codegen unit in the
-// unit's order, which rustc sorts by symbol name; inlining callers before their callees
-// (top-down) compiles this crate 1.6x faster than the reverse. Under the default (legacy)
-// mangling a name sorts by its length-prefixed path segments, so the layers are named to sort
-// callers first: `drv` (the batch driver, "3drv") < `algo` ("4algo") < `lanes` ("5lanes") <
-// the vector types' trait impls (`<tridist::arch::x86_simd::F32x4<K> as
-// tridist::lanes::Lanes>`, a segment of 80 or more characters, after "7tridist"). The test
-// `inline_order` below keeps it so.
+// Build-time rule: callers sort before callees under legacy mangling (`drv` < `algo` < `lanes`
+// < the vector types' impls), so LLVM inlines top-down; `inline_order` below checks it.
 mod algo;
 #[allow(unsafe_code)]
 mod arch;

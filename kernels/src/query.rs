@@ -37,6 +37,7 @@ macro_rules! define_query {
         /// Every query the crate answers (the registry). Batch queries run through
         /// [`crate::Engine::run`] by this name as well as through their typed methods.
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        #[non_exhaustive]
         pub enum Query {
             $(#[doc = $about] $v,)*
         }

@@ -92,6 +92,7 @@ pub enum Proximity<T> {
 /// breakdown a user can read. Pairs are counted once in `pairs` and once more in each later
 /// stage they reached.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct PathCounts {
     /// Pairs answered.
     pub pairs: u64,

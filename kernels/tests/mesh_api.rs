@@ -44,6 +44,12 @@ fn bad_meshes_and_poses_are_errors() {
         TreeShape { width: tridist::TreeShape::DEFAULT.width, leaf: tridist::TreeShape::DEFAULT.leaf }
     );
     assert_eq!(TreeShape::default(), tetra([0.0; 3]).shape());
+    // a triangle that is not there is `None`, not a panic
+    let t = tetra([0.0; 3]);
+    assert_eq!(t.triangle(3), Some([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]));
+    assert_eq!(t.triangle(4), None);
+    assert_eq!(t.triangle_at(usize::MAX, &Pose::identity()), None);
+    assert_eq!(t.triangle_at(0, &Pose::translation([0.0, 0.0, 1.0])).map(|t| t[0]), Some([0.0, 0.0, 1.0]));
     let (a, b) = (tetra([0.0; 3]), tetra([3.0, 0.0, 0.0]));
     let e = Engine::auto();
     let id = Pose::identity();
@@ -102,7 +108,12 @@ fn a_moved_mesh_answers_as_the_mesh_built_there() {
     let far = tetra([2.0, 1.0, 0.5]);
     let all = (0..4).flat_map(|i| (0..4).map(move |j| (i, j)));
     let min = all
-        .map(|(i, j)| tridist::sqdist_triangle_triangle(&a.triangle(i), &far.triangle(j)))
+        .map(|(i, j)| {
+            tridist::sqdist_triangle_triangle(
+                &a.triangle(i).expect("a triangle"),
+                &far.triangle(j).expect("a triangle"),
+            )
+        })
         .fold(f64::INFINITY, f64::min);
     assert_eq!(moved.sqdist, min);
     assert_eq!(e.mesh_intersect(&a, &Pose::identity(), &b, &pose).unwrap(), None);
@@ -114,6 +125,11 @@ fn a_moved_mesh_answers_as_the_mesh_built_there() {
     let d = moved.sqdist.sqrt();
     let within = |m: f64| e.mesh_within_margin(&a, &Pose::identity(), &b, &pose, m).unwrap();
     let (i, j) = within(d * 1.001).expect("within a margin above the distance");
-    assert!(tridist::sqdist_triangle_triangle(&a.triangle(i), &far.triangle(j)) <= (d * 1.001).powi(2));
+    assert!(
+        tridist::sqdist_triangle_triangle(
+            &a.triangle(i).expect("a triangle"),
+            &far.triangle(j).expect("a triangle")
+        ) <= (d * 1.001).powi(2)
+    );
     assert_eq!(within(d * 0.999), None);
 }

@@ -603,7 +603,7 @@ fn near_rows(
 /// squared distance bit for bit (the same question asked). No contacts: zero time, `true`.
 /// (The contacts come from a call of their own, untimed: keeping the timed calls' answers
 /// alive would keep the allocator from reusing their memory, which changes the contact
-/// query's time; see ARCHITECTURE.md "Contacts on two threads". "Any contact query" means
+/// query's time; see docs/notes/kernel-speed.md, "Contacts on two threads at the deepest pose". "Any contact query" means
 /// one built on these kernels: a faster kernel would lower the floor.)
 fn kernel_floor(
     e: &Engine,
@@ -617,8 +617,11 @@ fn kernel_floor(
     if found.is_empty() {
         return Ok((0.0, true));
     }
-    let ta = Batch::from_slice(&found.iter().map(|c| a.triangle(c.tri_a)).collect::<Vec<_>>());
-    let tb = Batch::from_slice(&found.iter().map(|c| b.triangle_at(c.tri_b, pose)).collect::<Vec<_>>());
+    let named =
+        |t: Option<[[f32; 3]; 3]>| t.ok_or_else(|| "a contact names no triangle of its mesh".to_string());
+    let ta = found.iter().map(|c| named(a.triangle(c.tri_a))).collect::<Result<Vec<_>, _>>()?;
+    let tb = found.iter().map(|c| named(b.triangle_at(c.tri_b, pose))).collect::<Result<Vec<_>, _>>()?;
+    let (ta, tb) = (Batch::from_slice(&ta), Batch::from_slice(&tb));
     let mut out = vec![ClosestPoints::default(); found.len()];
     let t = median_time(|| drop(e.closest_points_triangle_triangle(&ta, &tb, &mut out)), budget);
     let same = out.iter().zip(&found).all(|(o, c)| o.sqdist.to_bits() == c.sqdist.to_bits());

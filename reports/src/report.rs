@@ -108,10 +108,10 @@ fn apart<T: Peer>(w: &Workload<T>, e: Engine, budget: std::time::Duration) -> Op
 
 const TOLERANCES: [(&str, Tolerance); 5] = [
     ("exact", Tolerance::EXACT),
-    ("scaled:8", Tolerance { scaled: 8.0, absolute: 0.0, relative: 0.0 }),
+    ("scaled:8", Tolerance::scaled(8.0)),
     ("default", Tolerance::DEFAULT),
-    ("scaled:1024", Tolerance { scaled: 1024.0, absolute: 0.0, relative: 0.0 }),
-    ("abs:1e-3", Tolerance { scaled: 0.0, absolute: 1e-3, relative: 0.0 }),
+    ("scaled:1024", Tolerance::scaled(1024.0)),
+    ("abs:1e-3", Tolerance::absolute(1e-3)),
 ];
 
 /// The variants the peer comparisons show: AVX2+FMA (the variant the speed targets name), and

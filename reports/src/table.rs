@@ -186,16 +186,19 @@ pub fn read(path: &Path) -> Result<Vec<TRow>, String> {
             outputs: rec[6].to_string(),
             stages: rec[7].to_string(),
             qps,
-            counts: PathCounts {
-                pairs: num(9)?,
-                prefiltered: num(10)?,
-                delegated: num(11)?,
-                refined: num(12)?,
-                recertified: num(13)?,
-                compacted: num(14)?,
-                widened: num(15)?,
-                exact: num(16)?,
-                uncertified: num(17)?,
+            counts: {
+                // (`PathCounts` is non-exhaustive: built field by field)
+                let mut c = PathCounts::default();
+                c.pairs = num(9)?;
+                c.prefiltered = num(10)?;
+                c.delegated = num(11)?;
+                c.refined = num(12)?;
+                c.recertified = num(13)?;
+                c.compacted = num(14)?;
+                c.widened = num(15)?;
+                c.exact = num(16)?;
+                c.uncertified = num(17)?;
+                c
             },
         });
     }
@@ -221,7 +224,11 @@ mod tests {
             outputs: "points".into(),
             stages: "full".into(),
             qps: 12345.0,
-            counts: PathCounts { pairs: 10, refined: 5, compacted: 3, ..PathCounts::default() },
+            counts: {
+                let mut c = PathCounts::default();
+                (c.pairs, c.refined, c.compacted) = (10, 5, 3);
+                c
+            },
         }];
         write(&p, &rows).unwrap();
         assert_eq!(read(&p).unwrap(), rows);

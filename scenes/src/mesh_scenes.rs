@@ -268,7 +268,7 @@ pub const MEASURED_GAP: f64 = 2.556;
 pub const BOUND_GAP: f64 = 3.45;
 
 fn moved<T: Real>(m: &Mesh<T>, p: &Pose<T>) -> Vec<[[f64; 3]; 3]> {
-    (0..m.len()).map(|i| m.triangle_at(i, p).map(|v| v.map(Real::to_f64))).collect()
+    m.triangles().iter().map(|t| t.map(|v| p.apply(m.vertices()[v as usize]).map(Real::to_f64))).collect()
 }
 
 fn exact_tri(t: &[[f64; 3]; 3]) -> [oracle::P3; 3] {

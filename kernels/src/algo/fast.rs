@@ -132,7 +132,7 @@ pub(crate) fn tri_tri_fast<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut<
             // the near-parallel family's pairs to the accurate stage, the cross products none,
             // and so does the mix (`spin tri_tri near_parallel <prec> avx2fma 0.2 4000 1
             // sqdist full`, the path counts); the mix saves 16 operations per edge pair
-            // elsewhere (ARCHITECTURE.md, "The lines' parameter from dot products").
+            // elsewhere (docs/notes/kernel-speed.md, "The lines' parameter from dot products").
             let (d2, ss, tt) = edge_pair(s[i], e[i], iea[i], t[j], f[j], ifb[j], Some((ee[i], ff[j])));
             best.keep(d2, ss, tt, k.c((3 * i + j) as f64));
         }

@@ -14,7 +14,7 @@
 //! | [`cert`] | the per-pair certificate: a rigorous interval `[lo, hi]` around the exact distance |
 //! | [`nodes`] | the mesh traversal's node test: one node against a node's children, a lane per child |
 //!
-//! Precision policy (see ARCHITECTURE.md):
+//! Precision policy (ARCHITECTURE.md; the long form docs/notes/precision.md):
 //! - every query first scales its input by one power of two so that the largest absolute
 //!   coordinate lies in [1, 2): the scaling is exact, so power-of-two scaling of the input scales
 //!   the answer exactly, no intermediate (up to fourth powers of coordinates) can overflow or
@@ -176,7 +176,7 @@ pub(crate) fn prescale<L: Lanes, const K: usize>(pts: [V3<L>; K]) -> Scaled<L, K
     // maximum of their bit patterns ([`Lanes::max_exp`]): it gives the power of two and
     // finiteness (no exponent field all ones: no NaN, no infinity), and it is on the path in
     // front of every lane's arithmetic, where a floating-point maximum takes four cycles to its
-    // one (nearby Armadillo pairs: `spin tri_tri arm_nearby f32 avx2fma`, see ARCHITECTURE.md).
+    // one (nearby Armadillo pairs: `spin tri_tri arm_nearby f32 avx2fma`, see docs/notes/kernel-speed.md).
     // The magnitude itself (thresholds at the end) is that maximum where it is exact (f32, and
     // f64 on AVX-512 and scalar: 18 operations fewer, `spin tri_tri arm_nearby f32 avx2fma`
     // 70.9-71.4 -> 72.4-72.6 M/s), else the floating-point maximum beside it.
@@ -246,7 +246,7 @@ pub(crate) fn scale_pair<L: Lanes, const KA: usize, const KB: usize>(
 /// taken first and scaled after, so that the prescaling (the magnitude of 18 coordinates
 /// reduced as a tree, and its power of two) runs beside the differences instead of in front
 /// of them: the quick stage of triangle distance is bound by its dependency chains
-/// (ARCHITECTURE.md, "The critical path"). The bits are those of `x / p - a_0 / p` whenever no
+/// (docs/notes/kernel-speed.md, "The critical path"). The bits are those of `x / p - a_0 / p` whenever no
 /// scaled value is subnormal: rounding commutes with scaling by a power of two, and a
 /// subnormal raw difference is exact. Where one is (coordinates below 2^-126 (f32) of the
 /// pair's magnitude), this rounds once in the normal range and once when scaled, no more than

@@ -51,7 +51,7 @@ pub(crate) trait Entries: Token {
 /// merges only the smallest, so each large entry point is optimised in a unit of its own: the
 /// build's peak memory is that of one entry point per parallel job, not of every query of an
 /// instruction set at once (#17: the release build's peak fell from 1.29 to 0.95 GB; see
-/// ARCHITECTURE.md "Compile-time budget").
+/// docs/notes/build-time.md).
 macro_rules! entry_modules {
     ($p:ident, $t:ty, $tok:ty, $attr:meta, $l:ty, $($v:ident, $m:ident :: $k:ident;)*) => {
         mod $p {
@@ -74,7 +74,7 @@ macro_rules! entry_modules {
 /// tight re-certification (`rc32::run`, `rc64::run`) of one instruction set, each in a module
 /// of its own like [`entry_modules`]. Inlined into every query's entry point, these paths made
 /// those functions so large that the optimiser's cost grew faster than their size (the stack
-/// slots' promotion, ARCHITECTURE.md "Compile-time budget"): out of line, the kernels crate's
+/// slots' promotion, docs/notes/build-time.md): out of line, the kernels crate's
 /// release build took half the CPU time. Two default-off variants run them on the variant
 /// whose bits they share instead of compiling their own (AVX on SSE4.1's, AVX-512VL on
 /// AVX2+FMA's; `crate::arch::x86_simd`'s `simd_entries`): every lane type evaluates the same

@@ -111,11 +111,10 @@ where
 /// [`crate::algo::pqp::TriTri`]) on the `open` pairs, gathered into full vectors; the pairs it
 /// does not accept go to `still`. A rare path (the pairs that neither fast stage nor the tight
 /// re-certification accepts), which [`run`] reaches through its token
-/// ([`crate::arch::dispatch::Entries::accurate_f32`]): an entry point of its own per instruction set and
-/// precision (`crate::arch::dispatch::rare_modules`), not inlined into the query's. Out of line, this
-/// stage and [`recert`] halved the kernels crate's release build (ARCHITECTURE.md,
-/// "Compile-time budget"); the headline workloads' speed did not move, since they reach these
-/// paths once per chunk at most.
+/// ([`crate::arch::dispatch::Entries::accurate_f32`]): an entry point of its own per
+/// instruction set and precision (`crate::arch::dispatch::rare_modules`), not inlined into the
+/// query's. Out of line, this stage and [`recert`] halved the kernels crate's release build
+/// (docs/notes/build-time.md); the headline workloads reach these paths once per chunk at most.
 #[inline(always)]
 pub(crate) fn accurate<L: Lanes>(
     kk: L::K,
@@ -224,7 +223,7 @@ fn pass<L: Lanes, K: Kernel, const ST: u8>(
 /// pair per column and group, where gathering them back costs a hardware gather per column and
 /// group of open pairs, on whose results the stage then waits. On the Zen 5 reference machine
 /// that raised `spin tri_tri random f32 avx512 1` from 34.4-36.4 to 46.9-48.2 M/s
-/// (ARCHITECTURE.md, "Where the kernels' time goes"). The bits are the gathered path's: the
+/// (docs/notes/kernel-speed.md). The bits are the gathered path's: the
 /// same coordinates in the same lanes, the tail lanes repeating the last open pair ([`Packed::pad`]).
 struct Packed<T: Real> {
     /// Pack at all (a constant of the entry point: the kernel, the lanes and the quick stage).

@@ -20,7 +20,7 @@ impl<T: Real> Mesh<T> {
         if n == 0 {
             return;
         }
-        let boxes: Vec<Aabb> = (0..n).map(|i| tri_box(&self.triangle(i))).collect();
+        let boxes: Vec<Aabb> = (0..n).map(|i| tri_box(&self.tri(i))).collect();
         // What the splits move: a triangle's box centre and number (small, so that the splits
         // move little; the boxes are read by number).
         let mut items: Vec<Item> = boxes

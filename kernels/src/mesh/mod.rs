@@ -149,7 +149,7 @@ const FLUSH: usize = 64;
 /// after a batch, and holds up to `2 cap` contacts and a batch meanwhile). It visits every
 /// node pair within its margin whatever the kernels answer, so a batch prunes nothing, and
 /// larger ones run the kernels in fuller vectors: the pairs of a chunk that the quick stage
-/// leaves open (18 % of the candidates at near contact, ARCHITECTURE.md) fill a mostly empty
+/// leaves open (18 % of the candidates at near contact, docs/notes/kernel-speed.md) fill a mostly empty
 /// vector of the full stage. `spin mesh contacts n3|5 f32 1 1`, against batches of 64, two
 /// copies alternated three rounds: 256, 0.717-0.767 against 0.772-0.791 ms at n3 and
 /// 10.45-11.19 against 10.84-11.40 at pose 5; 1024, 0.708-0.751 and 10.36-10.47.
@@ -370,14 +370,20 @@ impl<T: Real> Mesh<T> {
         self.shape
     }
 
-    /// Triangle `i` in the mesh's own frame.
-    pub fn triangle(&self, i: usize) -> Triangle<T> {
-        self.triangles[i].map(|v| self.vertices[v as usize])
+    /// Triangle `i` in the mesh's own frame; `None` when the mesh has no triangle `i`.
+    pub fn triangle(&self, i: usize) -> Option<Triangle<T>> {
+        (i < self.triangles.len()).then(|| self.tri(i))
     }
 
-    /// Triangle `i` moved by `pose`, exactly as the queries move it ([`Pose::apply`]).
-    pub fn triangle_at(&self, i: usize, pose: &Pose<T>) -> Triangle<T> {
-        self.triangle(i).map(|v| pose.apply(v))
+    /// Triangle `i` moved by `pose`, exactly as the queries move it ([`Pose::apply`]); `None`
+    /// when the mesh has no triangle `i`.
+    pub fn triangle_at(&self, i: usize, pose: &Pose<T>) -> Option<Triangle<T>> {
+        (i < self.triangles.len()).then(|| self.tri(i).map(|v| pose.apply(v)))
+    }
+
+    /// Triangle `i` (below [`Mesh::len`]: the index checks of [`Mesh::new`] hold).
+    pub(crate) fn tri(&self, i: usize) -> Triangle<T> {
+        self.triangles[i].map(|v| self.vertices[v as usize])
     }
 
     /// The triangle at position `k` of the leaf order (number `order[k]`) moved by `pose`, as

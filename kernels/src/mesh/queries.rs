@@ -66,9 +66,8 @@ impl Engine {
     /// (the full triangle-triangle answer, thresholded), pair by pair. So the search visits
     /// every pair whose answer could fall within the margin: exactly up to the margin plus the
     /// tolerance's width (`scaled u S`, 64 `u S` by default) beyond it. Far from the origin
-    /// that width can hold far more pairs than the margin: Armadillo and fandisk both moved
-    /// 1e5, 1e6 and 1e7 along x in f32, margin 0.1, took 6.3 ms, 170 ms and 16 s (`tridist
-    /// mesh ... --pose-a 1e7,0,0 --pose-b 1e7,0,0 --margin 0.1 --precision f32`); a smaller
+    /// that width can hold far more pairs than the margin, and the search takes time in
+    /// proportion (`docs/notes/mesh.md` in the repository measures it); a smaller
     /// [`crate::Tolerance::scaled`] narrows the reach (and sends more pairs to the kernels'
     /// accurate stage). With [`Engine::threads`] above 1 the traversal is split into pieces
     /// walked in parallel; the answer is the same. A margin whose square overflows `f64`
@@ -114,10 +113,8 @@ impl Engine {
     /// The kernels may call a pair within the tolerance's width of touching intersecting, so
     /// `None` is answered only after every such pair was answered disjoint. Far from the
     /// origin, where that width (72 `u S` by default) approaches the meshes' size, that is
-    /// many pairs: `data/meshes`' Armadillo and fandisk 0.89 apart (the fandisk moved 2.5
-    /// along z), 1e6 from the origin in f32, take about 0.1 s, against 0.01 ms near it (`tridist
-    /// mesh`, one call). A `Some` is found among overlapping boxes first, so it stays fast
-    /// there (module docs, "The traversal").
+    /// many pairs, and a `None` takes time in proportion. A `Some` is found among overlapping
+    /// boxes first, so it stays fast there (module docs, "The traversal").
     ///
     /// # Errors
     /// [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].

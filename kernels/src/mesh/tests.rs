@@ -303,7 +303,7 @@ fn check_columns<T: crate::Real>(m: &super::Mesh<T>, pose: &crate::Pose<T>) -> u
             }
         }
         for &t in &tris {
-            for v in m.triangle_at(t as usize, pose) {
+            for v in m.tri(t as usize).map(|v| pose.apply(v)) {
                 for k in 0..3 {
                     let x = v[k].to_f64();
                     assert!(
@@ -385,7 +385,7 @@ fn trees_have_their_shape() {
                         for at in node.first..node.first + node.count {
                             let i = m.order[at as usize] as usize;
                             seen[i] += 1;
-                            assert!(inside((node.lo, node.hi), tri_box(&m.triangle(i))));
+                            assert!(inside((node.lo, node.hi), tri_box(&m.tri(i))));
                         }
                     } else {
                         assert!((2..=width as u32).contains(&node.kids), "width {width}: {} kids", node.kids);
@@ -449,7 +449,7 @@ fn node_tests_agree_across_instruction_sets_and_bound_the_triangles() {
                     out.extend(
                         m.order[node.first as usize..(node.first + node.count) as usize]
                             .iter()
-                            .map(|&t| m.triangle_at(t as usize, pose)),
+                            .map(|&t| m.tri(t as usize).map(|v| pose.apply(v))),
                     );
                 } else {
                     todo.extend(node.first..node.first + node.kids);
@@ -604,10 +604,10 @@ fn brute_force<T: crate::Real>(
     (a, pa): (&super::Mesh<T>, &crate::Pose<T>),
     (b, pb): (&super::Mesh<T>, &crate::Pose<T>),
 ) -> Vec<T> {
-    let tb: Vec<_> = (0..b.len()).map(|j| b.triangle_at(j, pb)).collect();
+    let tb: Vec<_> = (0..b.len()).map(|j| b.tri(j).map(|v| pb.apply(v))).collect();
     let (mut xa, mut xb) = (Vec::new(), Vec::new());
     for i in 0..a.len() {
-        let x = a.triangle_at(i, pa);
+        let x = a.tri(i).map(|v| pa.apply(v));
         for y in &tb {
             xa.push(x);
             xb.push(*y);
@@ -749,8 +749,12 @@ fn far_intersecting_meshes_are_searched_overlapping_pairs_first() {
         search(&e, &a, &pa, &b, &pb, &mut s).expect("search");
         let (i, j) = s.hit.expect("a hit");
         let mut v = [Intersection::Invalid];
-        e.intersect_triangle_triangle(&[a.triangle_at(i, &pa)][..], &[b.triangle_at(j, &pb)][..], &mut v)
-            .unwrap();
+        e.intersect_triangle_triangle(
+            &[a.tri(i).map(|v| pa.apply(v))][..],
+            &[b.tri(j).map(|v| pb.apply(v))][..],
+            &mut v,
+        )
+        .unwrap();
         assert_eq!(v[0], Intersection::Intersecting, "pair {i} {j}");
         s.answered
     };
@@ -823,7 +827,7 @@ fn searches_prune_where_squared_distances_overflow() {
     assert!(s.answered < all / 100, "{} of {all} pairs answered", s.answered);
     let (ta, tb): (Vec<_>, Vec<_>) = (0..a.len())
         .flat_map(|i| (0..b.len()).map(move |j| (i, j)))
-        .map(|(i, j)| (a.triangle_at(i, &pa), b.triangle_at(j, &pb)))
+        .map(|(i, j)| (a.tri(i).map(|v| pa.apply(v)), b.tri(j).map(|v| pb.apply(v))))
         .unzip();
     let mut cp = vec![ClosestPoints::default(); all];
     e.closest_points_triangle_triangle(&ta, &tb, &mut cp).expect("brute force");
