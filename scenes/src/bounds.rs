@@ -178,18 +178,28 @@ pub fn violations<T: Float>(
 ) -> Vec<String> {
     let ms = crate::eval::margins(cases, truth);
     let mut out = Vec::new();
+    let mut ran = 0;
     // triangle distance also without its quick stage: the other path to the same bounds
     let settings: &[bool] = if query == Query::TriTri { &[true, false] } else { &[true] };
     for (v, &quick) in Variant::ALL.iter().flat_map(|v| settings.iter().map(move |q| (*v, q))) {
-        let Ok(o) =
-            v.engine().and_then(|e| crate::eval::run_with(e.quick_stage(quick), query, v, cases, Some(&ms)))
-        else {
-            continue;
+        let Some(e) = v.engine_or_skip() else { continue };
+        let o = match crate::eval::run_with(e.quick_stage(quick), query, v, cases, Some(&ms)) {
+            Ok(o) => o,
+            Err(err) => {
+                out.push(format!(
+                    "{} {} {}: the variant returned an error: {err}",
+                    query.name(),
+                    v.name(),
+                    T::NAME
+                ));
+                continue;
+            }
         };
         let b = match family {
             Some(f) => bound(query, v, T::NAME, f),
             None => bound_any_family(query, v, T::NAME),
         };
+        ran += 1;
         let (st, js) = crate::eval::summarise(query, cases, truth, &o, b.allow, Some(&ms));
         if !meets(&st, &b) {
             let w = st.worst.unwrap_or(0);
@@ -203,6 +213,9 @@ pub fn violations<T: Float>(
                 crate::eval::describe(query, &cases[w], &truth[w], &o, w, &js[w])
             ));
         }
+    }
+    if ran == 0 {
+        out.push(format!("{} {}: no variant ran: nothing was compared", query.name(), T::NAME));
     }
     out
 }

@@ -105,6 +105,64 @@ impl Variant {
     pub fn engine(self) -> Result<Engine, tridist::Error> {
         Engine::new(self.isa())
     }
+    /// The engine a check runs this variant on, or `None` to skip it: only a variant this CPU
+    /// lacks is skipped, and not when the run requires its instruction set
+    /// ([`required_isas`], `TRIDIST_REQUIRE_ISA`): then, as for any other error, this panics
+    /// with the reason, so a check cannot pass having compared nothing on the CPU it claims.
+    pub fn engine_or_skip(self) -> Option<Engine> {
+        match self.engine() {
+            Ok(e) => Some(e),
+            Err(tridist::Error::Unavailable(isa)) if !required_isas().contains(&isa) => None,
+            Err(e) => panic!(
+                "variant {} cannot run: {e} (required by {REQUIRE_ENV}: {:?})",
+                self.name(),
+                required_isas()
+            ),
+        }
+    }
+}
+
+/// The environment variable that names the instruction sets a run must exercise: a
+/// comma-separated list of [`tridist::Isa`] names (`avx2fma,avx512`), or `detected` for every
+/// one this CPU runs. CI sets it, so that "skipped: the CPU lacks it" cannot hide a variant
+/// that the machine has (or a build that left it out).
+pub const REQUIRE_ENV: &str = "TRIDIST_REQUIRE_ISA";
+
+/// The instruction sets this run must exercise ([`REQUIRE_ENV`]; none when unset). An unknown
+/// name panics: a typo must not turn the requirement off.
+pub fn required_isas() -> Vec<Isa> {
+    let Ok(s) = std::env::var(REQUIRE_ENV) else { return vec![] };
+    let mut out = vec![];
+    for name in s.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+        if name == "detected" {
+            out.extend(Isa::ALL.into_iter().filter(|i| {
+                // what the CPU runs, compiled or not: a variant left out of the build fails
+                let mut all = *i == Isa::Scalar;
+                #[cfg(target_arch = "x86_64")]
+                {
+                    all |= match i {
+                        Isa::Sse41 => std::is_x86_feature_detected!("sse4.1"),
+                        Isa::Avx => std::is_x86_feature_detected!("avx"),
+                        Isa::Avx2Fma => {
+                            std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
+                        }
+                        Isa::Avx512Vl => {
+                            std::is_x86_feature_detected!("avx512f")
+                                && std::is_x86_feature_detected!("avx512vl")
+                        }
+                        Isa::Avx512 => std::is_x86_feature_detected!("avx512f"),
+                        _ => false,
+                    };
+                }
+                all
+            }));
+        } else {
+            out.push(
+                Isa::parse(name).unwrap_or_else(|| panic!("{REQUIRE_ENV}: unknown instruction set {name:?}")),
+            );
+        }
+    }
+    out
 }
 
 /// What a kernel returned for a batch.
@@ -743,9 +801,10 @@ pub fn sweep_family_with<T: Float>(
     let ms = margins(&cases, &tr);
     let mut rows = Vec::new();
     for v in Variant::ALL {
-        let Ok(out) = v.engine().and_then(|e| run_with(setup(e), query, v, &cases, Some(&ms))) else {
-            continue;
-        };
+        let Some(e) = v.engine_or_skip() else { continue };
+        let out = run_with(setup(e), query, v, &cases, Some(&ms)).unwrap_or_else(|err| {
+            panic!("{} {} {}: the variant returned an error: {err}", query.name(), v.name(), T::NAME)
+        });
         let allow = crate::bounds::bound(query, v, T::NAME, family).allow;
         let (stats, js) = summarise(query, &cases, &tr, &out, allow, Some(&ms));
         let row = Row { query, variant: v, precision: T::NAME, family, stats };

@@ -13,7 +13,7 @@
 //!   then the extra bytes.
 
 use arbitrary::{Arbitrary, Unstructured};
-use tridist::{Engine, Interval, Isa, Point, Query, Tolerance, Triangle};
+use tridist::{Interval, Isa, Point, Query, Tolerance, Triangle};
 
 use crate::bounds::violations;
 use crate::eval::{
@@ -252,7 +252,7 @@ pub fn within(data: &[u8]) -> Verdict {
 
 fn within_in<T: Float>(c: &Case<T>, margin: T) -> Verdict {
     for isa in Isa::ALL {
-        let Ok(e) = Engine::new(isa) else { continue };
+        let Some(e) = crate::eval::Variant::from_isa(isa).engine_or_skip() else { continue };
         let (mut full, mut w) = ([T::ZERO], [T::ZERO]);
         e.sqdist_triangle_triangle(&c.a, &c.b, &mut full).map_err(|e| e.to_string())?;
         e.within_margin_triangle_triangle(&c.a, &c.b, margin, &mut w).map_err(|e| e.to_string())?;
@@ -291,7 +291,7 @@ fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance) -> Verdict {
         let (a, b) = exact_prims(q, c);
         let d2 = exact_d2(&a, &b);
         for v in Variant::ALL {
-            let Ok(e) = v.engine() else { continue };
+            let Some(e) = v.engine_or_skip() else { continue };
             let e = e.tolerance(tol).map_err(|e| e.to_string())?;
             let o = crate::eval::run_with(e, q, v, cases, None).map_err(|e| e.to_string())?;
             let iv: Interval<T> = o.iv[0];
@@ -359,7 +359,7 @@ fn raw_bits_in<T: Float>(words: &[u64]) -> Verdict {
         // for infinite input, which `margin` rightly refuses
         let margins = vec![T::from_f64(0.5); n];
         for v in Variant::ALL {
-            let Ok(e) = v.engine() else { continue };
+            let Some(e) = v.engine_or_skip() else { continue };
             let o = crate::eval::run_with(e, q, v, &cases, Some(&margins))
                 .map_err(|e| format!("{} {}: {e}", q.name(), v.name()))?;
             for (i, c) in cases.iter().enumerate() {

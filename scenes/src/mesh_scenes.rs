@@ -492,7 +492,10 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
     };
     // every variant on the default tree; the best variant also on the other shapes (the
     // answers must not depend on the tree)
-    let isas: Vec<Isa> = Isa::ALL.into_iter().filter(|i| i.is_available()).collect();
+    let isas: Vec<Isa> = Isa::ALL
+        .into_iter()
+        .filter(|&i| crate::eval::Variant::from_isa(i).engine_or_skip().is_some())
+        .collect();
     let best = Engine::auto().isa();
     let runs = isas
         .iter()

@@ -38,7 +38,7 @@ fn fingerprint<T: Float>(o: &Output<T>, i: usize) -> Vec<u64> {
 
 fn check<T: Float>(group: &[Variant]) {
     let mut compared = 0;
-    if !group[0].available() {
+    if group[0].engine_or_skip().is_none() {
         eprintln!("bit_identity: {} unavailable on this CPU, group not compared", group[0].name());
         return;
     }
@@ -48,7 +48,7 @@ fn check<T: Float>(group: &[Variant]) {
             let cases = families::generate::<T>(family, tridist_scenes::seed() ^ 0x5eed, 200);
             let margins: Vec<T> = cases.iter().map(|_| T::from_f64(0.05)).collect();
             let reference = run(q, group[0], &cases, Some(&margins)).expect("reference runs");
-            for &v in group.iter().skip(1).filter(|v| v.available()) {
+            for &v in group.iter().skip(1).filter(|v| v.engine_or_skip().is_some()) {
                 let o = run(q, v, &cases, Some(&margins)).expect("variant runs");
                 for i in 0..cases.len() {
                     assert_eq!(
@@ -68,7 +68,7 @@ fn check<T: Float>(group: &[Variant]) {
             }
         }
     }
-    if group[1..].iter().any(|v| v.available()) {
+    if group[1..].iter().any(|v| v.engine_or_skip().is_some()) {
         assert!(compared > 0, "nothing compared");
     } else {
         eprintln!("bit_identity: no variant of {group:?} to compare with {}", group[0].name());

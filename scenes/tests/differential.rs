@@ -112,19 +112,43 @@ fn check_with(query: Query, setup: fn(Engine) -> Engine, measured: bool) {
     assert!(failures.is_empty(), "{} row(s) out of bounds:\n{}", failures.len(), failures.join("\n\n"));
 }
 
-#[test]
-fn seg_seg_against_the_oracle() {
-    check(Query::SegSeg);
+/// The per-query tests, generated from one list: each line is a test that judges its query
+/// against the oracle on every family, variant and precision. The list must be the registry
+/// (`the_list_is_the_registry`), so a query added to `tridist` gets its test by its line here,
+/// and cannot pass by being named in a list without a test behind it.
+macro_rules! query_tests {
+    ($($test:ident: $q:ident;)*) => {
+        $(
+            #[test]
+            fn $test() {
+                check(Query::$q);
+            }
+        )*
+        /// The queries the tests above judge, in their order.
+        const TESTED: &[Query] = &[$(Query::$q),*];
+    };
+}
+
+query_tests! {
+    seg_seg_against_the_oracle: SegSeg;
+    point_tri_against_the_oracle: PointTri;
+    tri_tri_pqp_against_the_oracle: TriTri;
+    tri_tri_brute_against_the_oracle: TriTriBrute;
+    penalty_against_the_oracle: Penalty;
+    within_against_the_oracle: Within;
+    intersect_against_the_oracle: Intersect;
 }
 
 #[test]
-fn point_tri_against_the_oracle() {
-    check(Query::PointTri);
-}
-
-#[test]
-fn tri_tri_pqp_against_the_oracle() {
-    check(Query::TriTri);
+fn the_list_is_the_registry() {
+    let mut tested = TESTED.to_vec();
+    tested.sort();
+    let before = tested.len();
+    tested.dedup();
+    assert_eq!(tested.len(), before, "a query has two tests in the list");
+    let mut all = Query::ALL.to_vec();
+    all.sort();
+    assert_eq!(tested, all, "the per-query tests and the registry differ");
 }
 
 /// Triangle distance without its quick stage (`Engine::quick_stage(false)`): every pair
@@ -132,41 +156,4 @@ fn tri_tri_pqp_against_the_oracle() {
 #[test]
 fn tri_tri_without_the_quick_stage_against_the_oracle() {
     check_with(Query::TriTri, |e| e.quick_stage(false), false);
-}
-
-#[test]
-fn tri_tri_brute_against_the_oracle() {
-    check(Query::TriTriBrute);
-}
-
-#[test]
-fn penalty_against_the_oracle() {
-    check(Query::Penalty);
-}
-
-#[test]
-fn within_against_the_oracle() {
-    check(Query::Within);
-}
-
-#[test]
-fn every_registered_query_has_a_test_here() {
-    // The tests above name each query; a query added to the registry must get one.
-    let tested = [
-        Query::SegSeg,
-        Query::PointTri,
-        Query::TriTri,
-        Query::TriTriBrute,
-        Query::Penalty,
-        Query::Intersect,
-        Query::Within,
-    ];
-    for q in Query::ALL {
-        assert!(tested.contains(q), "query {q} is not judged by the differential suite");
-    }
-}
-
-#[test]
-fn intersect_against_the_oracle() {
-    check(Query::Intersect);
 }

@@ -67,10 +67,12 @@ fn power_of_two_scaling_is_exact_on_every_family() {
                 })
                 .collect();
             for v in Variant::ALL {
+                if v.engine_or_skip().is_none() {
+                    continue;
+                }
                 for q in [Query::TriTri, Query::TriTriBrute, Query::SegSeg, Query::PointTri] {
-                    let (Ok(o1), Ok(o2)) = (run(q, v, &base, None), run(q, v, &scaled, None)) else {
-                        continue;
-                    };
+                    let o1 = run(q, v, &base, None).expect("an available variant runs");
+                    let o2 = run(q, v, &scaled, None).expect("an available variant runs");
                     for i in 0..base.len() {
                         let want = o1.d[i] * f * f;
                         if want == 0.0 || (want.abs() >= f64::MIN_POSITIVE && want.is_finite()) {
