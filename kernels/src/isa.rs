@@ -75,11 +75,25 @@ impl Isa {
     /// Is the variant compiled into this build? Every variant except [`Isa::Avx`] and
     /// [`Isa::Avx512Vl`], which need the crate features `avx` and `avx512vl`.
     pub const fn is_compiled(self) -> bool {
+        // The crate's own unit tests (`cfg(test)`: a second build of the crate, beside the
+        // library the integration tests and the suite judge on every variant) compile the
+        // query entry points of the portable code and AVX2+FMA only: they test the internals,
+        // not each instruction set, and each set's entry points cost minutes to compile
+        // (ARCHITECTURE.md, "Build-time rules").
+        if cfg!(test) {
+            return matches!(self, Isa::Scalar | Isa::Avx2Fma);
+        }
         match self {
             Isa::Avx => cfg!(feature = "avx"),
             Isa::Avx512Vl => cfg!(feature = "avx512vl"),
             Isa::Scalar | Isa::Sse41 | Isa::Avx2Fma | Isa::Avx512 => true,
         }
+    }
+
+    /// Does this CPU run the variant's instructions (compiled in or not)? What a capability
+    /// token proves.
+    pub(crate) fn cpu_has(self) -> bool {
+        detected()[self as usize]
     }
 
     /// The fastest available variant.
