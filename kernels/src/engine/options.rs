@@ -78,7 +78,7 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 /// AVX-512 the quick stage's open pairs are packed from its registers instead), then, for f32
 /// input, to the same algorithm in f64 on the exactly widened input, then, with the `exact`
 /// feature, to the exact rational oracle. What each setting
-/// guarantees, for every pair the batch reports as certified ([`PathCounts::uncertified`]
+/// guarantees, for every pair the batch reports as certified ([`PathCounts::uncertified`](crate::PathCounts::uncertified)
 /// counts the others):
 ///
 /// * the returned distance is within the tolerance of the exact one (squared: `sqdist` is the
@@ -154,7 +154,7 @@ impl Default for Tolerance {
     }
 }
 
-/// Options of the penalty method ([`Engine::penalty_triangle_triangle`]): the
+/// Options of the penalty method ([`Engine::penalty_triangle_triangle`](crate::Engine::penalty_triangle_triangle)): the
 /// speed-for-accuracy knob of that approximation. `rho` and `reg` are relative to the pair's
 /// own curvature and `tol` to its magnitude, so the same options behave the same at every scale.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -237,7 +237,7 @@ impl<'a, T: Real> Outputs<'a, T> {
     pub fn new() -> Self {
         Outputs { sink: Sink::default() }
     }
-    /// Squared distances (within-margin: `+inf` beyond the margin; [`Query::Intersect`]:
+    /// Squared distances (within-margin: `+inf` beyond the margin; [`Query::Intersect`](crate::Query::Intersect):
     /// [`Error::NoSuchOutput`], as for every distance output).
     pub fn sqdist(mut self, out: &'a mut [T]) -> Self {
         self.sink.d = Some(out);
@@ -254,9 +254,9 @@ impl<'a, T: Real> Outputs<'a, T> {
         self.sink.q = Some(q);
         self
     }
-    /// Certified intervals of the distance. Not for [`Query::Intersect`] (its separating-axis
+    /// Certified intervals of the distance. Not for [`Query::Intersect`](crate::Query::Intersect) (its separating-axis
     /// test computes no distance): asking it for this, `sqdist`, `closest_points` or `points`
-    /// is [`Error::NoSuchOutput`]; ask for [`Outputs::verdicts`], or run [`Query::TriTri`] for a
+    /// is [`Error::NoSuchOutput`]; ask for [`Outputs::verdicts`], or run [`Query::TriTri`](crate::Query::TriTri) for a
     /// certified distance.
     pub fn intervals(mut self, out: &'a mut [Interval<T>]) -> Self {
         self.sink.iv = Some(out);

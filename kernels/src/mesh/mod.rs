@@ -92,7 +92,7 @@ use {
 /// contact set (each pair decided by the kernels alone), the intersection verdict, the
 /// clearance check's yes or no and the closest point's distance are the same for every tree
 /// (the pair an intersection or a clearance check names may differ: the first found); the
-/// distance is within the search's slack ([`Engine::MESH_DISTANCE_SLACK`]) of the same smallest
+/// distance is within the search's slack ([`Engine::MESH_DISTANCE_SLACK`](crate::Engine::MESH_DISTANCE_SLACK)) of the same smallest
 /// kernel answer, and where pairs tie within that slack another tree may answer another of
 /// them. Only the time is meant to differ (the differential tests run leaves of 1 and 8 and
 /// widths of 2 and 8).
@@ -241,7 +241,7 @@ pub struct MeshDistance<T> {
     pub tri_b: usize,
 }
 
-/// A triangle pair within the margin ([`Engine::mesh_contacts`]).
+/// A triangle pair within the margin ([`Engine::mesh_contacts`](crate::Engine::mesh_contacts)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Contact<T> {
     /// Triangle of the first mesh.
@@ -256,7 +256,7 @@ pub struct Contact<T> {
     pub q: Point<T>,
 }
 
-/// The closest point of a mesh to a query point ([`Engine::mesh_closest_point`]).
+/// The closest point of a mesh to a query point ([`Engine::mesh_closest_point`](crate::Engine::mesh_closest_point)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MeshPoint<T> {
     /// Squared distance.
