@@ -36,6 +36,9 @@ fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
     v
 }
 
+/// The committed findings as of this writing: the replay must find at least these.
+const REPLAYED_AT_LEAST: usize = 25;
+
 #[test]
 fn committed_findings_replay_clean() {
     let dir = regressions_dir();
@@ -47,6 +50,8 @@ fn committed_findings_replay_clean() {
         n += inputs.len();
         failed.extend(replay(t, &inputs));
     }
+    // a replay that found nothing to replay (a moved folder, a renamed target) must not pass
+    assert!(n >= REPLAYED_AT_LEAST, "only {n} committed findings found under {}", dir.display());
     assert!(
         failed.is_empty(),
         "{} of {n} committed fuzz findings fail again:\n{}",
@@ -69,6 +74,7 @@ fn family_seed_corpus_passes_every_pair_target() {
         .enumerate()
         .map(|(i, v)| (format!("seed {i}"), v))
         .collect();
+    assert!(!inputs.is_empty(), "the family generators gave no seed input");
     let mut failed = Vec::new();
     for t in TARGETS.iter().filter(|t| !matches!(t.name, "raw_bits" | "parsers")) {
         failed.extend(replay(t, &inputs));
