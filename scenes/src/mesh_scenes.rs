@@ -305,11 +305,27 @@ pub struct Limits {
     pub point: f64,
     /// `|p - q|` of a contact's closest points against its pair's exact distance.
     pub gap: f64,
+    /// The engines' tolerance, in `u S` ([`tridist::Tolerance::scaled`]): the verdicts
+    /// (contacts, clearance, intersection) are judged outside `tolerance + 1` `u S` of a
+    /// change of verdict ([`Limits::tight`] for a pass under a tight one).
+    pub tolerance: f64,
 }
 
 impl Limits {
     /// The measured mesh row ([`BOUND_E`]), for the generated families.
-    pub const MEASURED: Limits = Limits { distance: BOUND_E, point: BOUND_E, gap: BOUND_GAP };
+    pub const MEASURED: Limits = Limits {
+        distance: BOUND_E,
+        point: BOUND_E,
+        gap: BOUND_GAP,
+        tolerance: tridist::Tolerance::DEFAULT.scaled,
+    };
+
+    /// The same limits under the tolerance `scaled` `u S`: the engines are given it, and the
+    /// contact sets, the clearance check and the intersection pair are judged outside
+    /// `scaled + 1` `u S` of a change of verdict instead of the default's 65.
+    pub fn tight(self, scaled: f64) -> Limits {
+        Limits { tolerance: scaled, ..self }
+    }
 
     /// The kernels' own loosest rows over every family (E and point error) in `precision`:
     /// what fuzzed (adversarial) scenes are held to, as the fuzzed triangle pairs are. A mesh
@@ -324,6 +340,7 @@ impl Limits {
             distance: b(tridist::Query::TriTri),
             point: b(tridist::Query::PointTri),
             gap: b(tridist::Query::TriTri),
+            tolerance: tridist::Tolerance::DEFAULT.scaled,
         }
     }
 }
@@ -367,10 +384,11 @@ fn margins(dstar: f64, big_s: f64) -> [f64; 3] {
 }
 
 /// How far from a change of verdict a pair of magnitude `s` may get either verdict: the
-/// verdict contract, 65 u S, exactly ([`oracle::metrics::c_us`]: in f64 arithmetic `u S`
-/// underflows to nothing where S is near the smallest normal).
-fn allowance<T: Real>(s: f64) -> Rational {
-    oracle::metrics::c_us(65.0, s, crate::float::metrics_precision(T::PRECISION))
+/// verdict contract, the tolerance (`tol` `u S`, 64 by default) plus one unit, exactly
+/// ([`oracle::metrics::c_us`]: in f64 arithmetic `u S` underflows to nothing where S is near
+/// the smallest normal).
+fn allowance<T: Real>(s: f64, tol: f64) -> Rational {
+    oracle::metrics::c_us(tol + 1.0, s, crate::float::metrics_precision(T::PRECISION))
 }
 
 /// The exact squared distance of every triangle pair that can matter to the checks: pairs
@@ -394,6 +412,7 @@ impl<'a> Brute<'a> {
         ea: &'a [[oracle::P3; 3]],
         eb: &'a [[oracle::P3; 3]],
         big_s: f64,
+        tol: f64,
     ) -> Self {
         // each triangle's box once, then the largest per-axis gap of a pair's boxes
         let boxes = |ts: &[[[f64; 3]; 3]]| -> Vec<[[f64; 3]; 2]> {
@@ -416,7 +435,7 @@ impl<'a> Brute<'a> {
         // check_scene's margins grow with d* <= upper; rounded to T, plus the allowance
         let u = T::UNIT_ROUNDOFF.to_f64();
         let margin = margins(upper, big_s).into_iter().fold(0.0, f64::max) * (1.0 + 4.0 * u);
-        let far = (upper.max(margin + allowance::<T>(big_s).to_f64())) * (1.0 + 1e-12);
+        let far = (upper.max(margin + allowance::<T>(big_s, tol).to_f64())) * (1.0 + 1e-12);
         let d2 = ba
             .iter()
             .zip(ea)
@@ -460,10 +479,33 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
     let u = T::UNIT_ROUNDOFF.to_f64();
     let big_s = mag(&ta).max(mag(&tb));
     // all pairs, exactly, except those certified too far apart to matter (`Brute`)
-    let mut d2 = Brute::new::<T>(&ta, &tb, &ea, &eb, big_s);
+    let mut d2 = Brute::new::<T>(&ta, &tb, &ea, &eb, big_s, lim.tolerance);
     let best = d2.min();
     let any_hit = best == 0;
     let dstar = best.to_f64().sqrt();
+    // Under a tight tolerance, two margins that decide one pair by a few `u S` (the hard
+    // decisions): 4 u S (of the pair) below its distance, where it must be left out, and 4 u S
+    // above, where it must be in (the allowance is `tolerance + 1` `u S`; rounding the margin
+    // moves it by at most `u S`). The pair: the farthest within the default margins' reach.
+    let hard: Vec<f64> = if lim.tolerance <= 2.0 {
+        let reach = margins(dstar, big_s).into_iter().fold(0.0, f64::max);
+        let mut pick: Option<(f64, f64)> = None;
+        for i in 0..ta.len() {
+            for j in 0..tb.len() {
+                if let Some(d) = d2.known(i, j) {
+                    let d = d.to_f64().sqrt();
+                    let sp = mag(&[ta[i], tb[j]]);
+                    if d + 8.0 * u * sp <= reach && d > 16.0 * u * sp && pick.is_none_or(|(best, _)| d > best)
+                    {
+                        pick = Some((d, sp));
+                    }
+                }
+            }
+        }
+        pick.map_or_else(Vec::new, |(d, sp)| vec![d - 4.0 * u * sp, d + 4.0 * u * sp])
+    } else {
+        Vec::new()
+    };
     let mut rng = Rng::new(idx);
     let points: Vec<([T; 3], Rational)> = (0..4)
         .map(|_| {
@@ -502,7 +544,9 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         .map(|&i| (i, TreeShape::default()))
         .chain(test_shapes().into_iter().skip(1).map(|shape| (best, shape)));
     for (isa, shape) in runs {
-        let e = Engine::new(isa).expect("available");
+        let e = Engine::new(isa)
+            .and_then(|e| e.tolerance(tridist::Tolerance::scaled(lim.tolerance)))
+            .map_err(|e| format!("{isa}: {e}"))?;
         let (ma, mb) = if shape == TreeShape::default() {
             (ma.clone(), mb.clone())
         } else {
@@ -537,7 +581,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
 
         // 2. contacts (and the clearance check) at half the minimum, a margin just above it
         // and 5 % of the size
-        for margin in margins(dstar, big_s) {
+        for margin in margins(dstar, big_s).into_iter().chain(hard.iter().copied()) {
             let m = T::from_f64(margin);
             let got = e.mesh_contacts(&ma, &pa, &mb, &pb, m, None).map_err(|e| format!("{tag}: {e}"))?;
             let mut seen = std::collections::HashSet::new();
@@ -563,7 +607,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
                         continue;
                     };
                     let s = mag(&[ta[i], tb[j]]);
-                    let allow = allowance::<T>(s);
+                    let allow = allowance::<T>(s, lim.tolerance);
                     let (lo, hi) = (rat(m.to_f64()) - &allow, rat(m.to_f64()) + &allow);
                     // (a pair within `allow` of the margin may go either way; when the margin
                     // is below the allowance, that includes touching pairs: the kernels answer
@@ -607,7 +651,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         // 3. intersection
         match e.mesh_intersect(&ma, &pa, &mb, &pb).map_err(|e| format!("{tag}: {e}"))? {
             Some((i, j)) => {
-                let allow = allowance::<T>(mag(&[ta[i], tb[j]]));
+                let allow = allowance::<T>(mag(&[ta[i], tb[j]]), lim.tolerance);
                 let d = d2.get(i, j);
                 ensure!(
                     d <= Rational::from(&allow * &allow),

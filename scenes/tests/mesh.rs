@@ -7,7 +7,8 @@
 //!   `d*` (S: the largest moved coordinate of both meshes), the reported pair's own exact
 //!   distance, and the closest points lying on the reported triangles;
 //! - contacts: every pair exactly within `margin - allow` is reported, none beyond
-//!   `margin + allow` (`allow`: the verdict contract, 65 u S of the pair), each once, with
+//!   `margin + allow` (`allow`: the verdict contract, the tolerance + 1 u S of the pair: 65
+//!   by default, 2 in `contacts_under_a_tight_tolerance`), each once, with
 //!   its pair's distance and closest points on its triangles whose `|p - q|` is its pair's
 //!   exact distance (within the measured E);
 //! - intersection: `Some` when some pair exactly intersects, and a reported pair is within
@@ -63,6 +64,20 @@ macro_rules! family_tests {
 }
 
 family_tests!(separated, near_parallel, touching, interpenetrating, far, degenerate, needles, sheared);
+
+/// Contact sets, the clearance check and the intersection pair under a tight tolerance
+/// (`1 u S`, judged outside `2 u S` of a change of verdict instead of 65): two scenes of each
+/// family where pairs sit near a margin or touch.
+#[test]
+fn contacts_under_a_tight_tolerance() {
+    for fam in ["touching", "near_parallel", "interpenetrating", "degenerate"] {
+        for idx in 0..2 {
+            let s = scene(fam, 1, idx, K);
+            check_scene::<f32>(&s, idx, &Limits::MEASURED.tight(1.0), &mut Worst::default()).unwrap();
+            check_scene::<f64>(&s, idx, &Limits::MEASURED.tight(1.0), &mut Worst::default()).unwrap();
+        }
+    }
+}
 
 /// Scenes of the sheared family run by [`sheared_poses_lose_no_pair`].
 const SHEARED_SCENES: u64 = 24;
