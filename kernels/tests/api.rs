@@ -465,27 +465,68 @@ fn within_margin_zero_agrees_for_touching_pairs_far_from_origin() {
         [-783424.0, -783424.0, 280925220113344.0],
         [-783423.9999999993, -783424.0, -783424.0],
     ];
-    // The exact distance of this pair is 3.67e-4 at S = 1.27e15 (u S = 0.14): within rounding of
-    // touching. Pinned: the full query's distance is within E <= 8 of the exact one, and
-    // within-margin 0 says "within" only if the exact distance is within 8 u S of 0, with the
-    // full query's value.
+    // The exact distance of this pair is 3.67e-4 at S = 1.27e15 (u S = 0.14): 0.0026 u S, far
+    // inside the default tolerance (64 u S), where the contract lets margin 0 go either way.
+    // What is pinned, per variant:
+    // - the full query's distance is within E <= 8 of the exact one;
+    // - within-margin is the full query's answer decided against the margin, bit for bit (at
+    //   margin 0, and at 66 u S, beyond the tolerance's reach, where it must be "within");
+    // - with the `exact` feature and `Tolerance::EXACT`, margin 0 is decided exactly: beyond
+    //   (`the_exact_step_decides_margin_zero_far_from_the_origin`).
     let exact = tridist_oracle::sqdist_triangle_triangle(&a, &b).unwrap().to_f64().sqrt();
     assert!((exact - 3.6696e-4).abs() < 1e-7, "{exact}");
     let us = f64::EPSILON / 2.0 * 1_266_637_395_981_376.0;
     for e in engines() {
-        let (mut full, mut w) = ([1.0f64], [1.0f64]);
+        let mut full = [1.0f64];
         e.sqdist_triangle_triangle(Prims::One(a), Prims::One(b), &mut full).unwrap();
-        e.within_margin_triangle_triangle(Prims::One(a), Prims::One(b), 0.0, &mut w).unwrap();
         assert!((full[0].sqrt() - exact).abs() <= 8.0 * us, "{:?}: {} vs {exact}", e.isa(), full[0].sqrt());
-        if w[0] == f64::INFINITY {
-            assert!(full[0] > 0.0, "{:?}", e.isa());
-        } else {
-            assert_eq!(w[0], full[0], "{:?}", e.isa());
-            assert!(w[0] == 0.0 && exact <= 8.0 * us, "{:?}: within 0 at distance {exact}", e.isa());
+        for margin in [0.0, 66.0 * us] {
+            let mut w = [1.0f64];
+            e.within_margin_triangle_triangle(Prims::One(a), Prims::One(b), margin, &mut w).unwrap();
+            let decided = if full[0] <= margin * margin { full[0] } else { f64::INFINITY };
+            assert_eq!(
+                w[0].to_bits(),
+                decided.to_bits(),
+                "{:?} margin {margin}: {} vs {}",
+                e.isa(),
+                w[0],
+                full[0]
+            );
         }
+        let mut w = [1.0f64];
+        e.within_margin_triangle_triangle(Prims::One(a), Prims::One(b), 66.0 * us, &mut w).unwrap();
+        assert!(w[0].is_finite(), "{:?}: beyond a margin 66 u S above a pair {exact} apart", e.isa());
     }
     let single = tridist::within_margin_triangle_triangle(&a, &b, 0.0).unwrap();
-    assert!(matches!(single, Proximity::Within(d) if d == 0.0) || single == Proximity::Beyond, "{single:?}");
+    let full = tridist::closest_points_triangle_triangle(&a, &b).sqdist;
+    let decided = if full == 0.0 { Proximity::Within(0.0) } else { Proximity::Beyond };
+    assert_eq!(single, decided, "the single-pair function decides as the full query");
+}
+
+/// With the `exact` feature and `Tolerance::EXACT`, the touching pair far from the origin of
+/// `within_margin_zero_agrees_for_touching_pairs_far_from_origin` (exactly 3.67e-4 apart, at
+/// `u S` = 0.14) is beyond margin 0 on every variant, and within a margin of twice its distance.
+#[cfg(feature = "exact")]
+#[test]
+fn the_exact_step_decides_margin_zero_far_from_the_origin() {
+    let a = [
+        [-783424.0, -1266637395981376.0, -140737489138752.0],
+        [140187731758016.1, -783424.0000000001, -549756597312.0],
+        [-549756597312.0, -549756597312.0, -783424.0],
+    ];
+    let b = [
+        [140187731758016.0, -783424.0, -549756597312.0],
+        [-783424.0, -783424.0, 280925220113344.0],
+        [-783423.9999999993, -783424.0, -783424.0],
+    ];
+    for e in engines() {
+        let e = e.tolerance(Tolerance::EXACT).unwrap();
+        let (mut w0, mut w1) = ([0.0f64], [0.0f64]);
+        e.within_margin_triangle_triangle(Prims::One(a), Prims::One(b), 0.0, &mut w0).unwrap();
+        e.within_margin_triangle_triangle(Prims::One(a), Prims::One(b), 7.4e-4, &mut w1).unwrap();
+        assert_eq!(w0[0], f64::INFINITY, "{:?}: within margin 0 at exact distance 3.67e-4", e.isa());
+        assert!((w1[0].sqrt() - 3.6696e-4).abs() < 1e-7, "{:?}: {}", e.isa(), w1[0].sqrt());
+    }
 }
 
 #[test]
