@@ -124,8 +124,24 @@ pub fn bound(query: Query, variant: Variant, precision: &str, family: Family) ->
 }
 
 /// The loosest bound of a combination over every family: for input of unknown family
-/// (`tridist eval --check`, the advice of `tridist advise`).
+/// (`tridist eval --check`, the advice of `tridist advise`, fuzzing). Computed once per query
+/// and precision (the fuzz targets ask for it on every input).
 pub fn bound_any_family(query: Query, variant: Variant, precision: &str) -> Bound {
+    use std::sync::OnceLock;
+    static ROWS: OnceLock<Vec<(Query, &'static str, Bound)>> = OnceLock::new();
+    let rows = ROWS.get_or_init(|| {
+        Query::ALL
+            .iter()
+            .flat_map(|&q| ["f32", "f64"].map(|p| (q, p, loosest(q, Variant::Scalar, p))))
+            .collect()
+    });
+    match rows.iter().find(|r| r.0 == query && r.1 == precision) {
+        Some(r) => r.2,
+        None => loosest(query, variant, precision),
+    }
+}
+
+fn loosest(query: Query, variant: Variant, precision: &str) -> Bound {
     let rows = Family::ALL.map(|f| bound(query, variant, precision, f));
     let worst = |g: fn(&Bound) -> f64| rows.iter().map(g).fold(0.0, f64::max);
     Bound {
@@ -180,13 +196,33 @@ pub fn violations<T: Float>(
     cases: &[crate::Case<T>],
     truth: &[crate::eval::Truth],
 ) -> Vec<String> {
+    violations_judged(query, family, cases, truth, |_, _| true)
+}
+
+/// [`violations`] of the runs `keep(i, n)` keeps, of the `n` available (variant, quick stage)
+/// runs in their order (the fuzz targets judge one per input: `fuzzing::Judge`). A run that
+/// compared nothing is still a violation.
+pub fn violations_judged<T: Float>(
+    query: Query,
+    family: Option<Family>,
+    cases: &[crate::Case<T>],
+    truth: &[crate::eval::Truth],
+    keep: impl Fn(usize, usize) -> bool,
+) -> Vec<String> {
     let ms = crate::eval::margins(cases, truth);
     let mut out = Vec::new();
     let mut ran = 0;
     // triangle distance also without its quick stage: the other path to the same bounds
     let settings: &[bool] = if query == Query::TriTri { &[true, false] } else { &[true] };
-    for (v, &quick) in Variant::ALL.iter().flat_map(|v| settings.iter().map(move |q| (*v, q))) {
-        let Some(e) = v.engine_or_skip() else { continue };
+    let runs: Vec<_> = Variant::ALL
+        .iter()
+        .filter_map(|v| Some((*v, v.engine_or_skip()?)))
+        .flat_map(|(v, e)| settings.iter().map(move |&q| (v, e, q)))
+        .collect();
+    for (k, &(v, e, quick)) in runs.iter().enumerate() {
+        if !keep(k, runs.len()) {
+            continue;
+        }
         let o = match crate::eval::run_with(e.quick_stage(quick), query, v, cases, Some(&ms)) {
             Ok(o) => o,
             Err(err) => {

@@ -15,7 +15,7 @@
 use arbitrary::{Arbitrary, Unstructured};
 use tridist::{Interval, Isa, Point, Query, Tolerance, Triangle};
 
-use crate::bounds::violations;
+use crate::bounds::violations_judged;
 use crate::eval::{
     answer_in_interval, case_line, exact_d2, exact_prims, interval_contains, parse_case_line, truth, Variant,
 };
@@ -32,8 +32,53 @@ pub type Verdict = Result<(), String>;
 pub struct Target {
     /// Name of the target.
     pub name: &'static str,
-    /// Runs one input.
-    pub run: fn(&[u8]) -> Verdict,
+    /// Runs one input, judging the variants `Judge` keeps.
+    pub run: fn(&[u8], Judge) -> Verdict,
+}
+
+/// Which variants an input is judged on: every one (the replays of committed findings and
+/// seeds by `cargo test`), or one per check, picked from the input's hash (libFuzzer, through
+/// [`fuzz`]: an input costs one variant's run and exact judgement instead of every variant's,
+/// and over a run every variant is judged on a share of the inputs). A finding is replayed on
+/// every variant, so it reproduces whichever variant found it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Judge {
+    /// Every available variant.
+    All,
+    /// One variant per check, from this hash.
+    One(u64),
+}
+
+impl Judge {
+    /// The sampling judge of an input: `One` of its FNV-1a hash.
+    pub fn of(data: &[u8]) -> Judge {
+        Judge::One(
+            data.iter()
+                .fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)),
+        )
+    }
+
+    /// Is candidate `i` of `n` judged? `salt` tells the checks of one input apart (query,
+    /// precision), so that they pick different variants.
+    pub fn keeps(self, i: usize, n: usize, salt: u64) -> bool {
+        match self {
+            Judge::All => true,
+            Judge::One(h) => {
+                // a SplitMix64 finaliser: consecutive salts pick independently
+                let mut z = h ^ salt.wrapping_mul(0x9e37_79b9_7f4a_7c15);
+                z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+                z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+                z ^= z >> 31;
+                n > 0 && (z % n as u64) as usize == i
+            }
+        }
+    }
+}
+
+/// A salt per (query, precision) for [`Judge::keeps`].
+fn salt<T: Float>(q: Query) -> u64 {
+    let qi = Query::ALL.iter().position(|x| *x == q).unwrap_or(0) as u64;
+    2 * qi + u64::from(T::NAME == "f64")
 }
 
 /// Every target.
@@ -55,7 +100,7 @@ pub const TARGETS: [Target; 10] = [
 /// triangle pairs ([`crate::mesh_scenes::check_scene`]; input: [`crate::mesh_scenes::fuzz_scene`]),
 /// held to the kernels' loosest rows ([`crate::mesh_scenes::Limits::kernels`]) as fuzzed pairs
 /// are: the generated families' measured mesh row is for the generated families.
-pub fn mesh(data: &[u8]) -> Verdict {
+pub fn mesh(data: &[u8], _judge: Judge) -> Verdict {
     let Some(s) = crate::mesh_scenes::fuzz_scene(data) else { return Ok(()) };
     let mut w = crate::mesh_scenes::Worst::default();
     let lim = crate::mesh_scenes::Limits::kernels;
@@ -64,11 +109,12 @@ pub fn mesh(data: &[u8]) -> Verdict {
         .map_err(|e| format!("{e} in {s:?}"))
 }
 
-/// The libFuzzer entry: runs target `name` on `data`, panicking with the violation (what
-/// libFuzzer records as a finding).
+/// The libFuzzer entry: runs target `name` on `data`, judging one variant per check
+/// ([`Judge::of`] the input), panicking with the violation (what libFuzzer records as a
+/// finding).
 pub fn fuzz(name: &str, data: &[u8]) {
     let t = TARGETS.iter().find(|t| t.name == name).unwrap_or_else(|| panic!("no fuzz target {name}"));
-    if let Err(e) = (t.run)(data) {
+    if let Err(e) = (t.run)(data, Judge::of(data)) {
         panic!("{e}");
     }
 }
@@ -190,9 +236,10 @@ impl PairInput {
 /// exact distance, verdicts wrong beyond their allowance: every construction mode, judged by
 /// the same rules).
 /// Fuzzed input is adversarial, so it is held to the loosest row over the families.
-pub fn check<T: Float>(query: Query, case: Case<T>) -> Verdict {
+pub fn check<T: Float>(query: Query, case: Case<T>, judge: Judge) -> Verdict {
     let cases = vec![case];
-    let bad = violations(query, None, &cases, &truth(query, &cases));
+    let salt = salt::<T>(query);
+    let bad = violations_judged(query, None, &cases, &truth(query, &cases), |i, n| judge.keeps(i, n, salt));
     if bad.is_empty() {
         Ok(())
     } else {
@@ -201,14 +248,14 @@ pub fn check<T: Float>(query: Query, case: Case<T>) -> Verdict {
 }
 
 /// The differential check of `queries` in both precisions.
-fn differential(data: &[u8], queries: &[Query]) -> Verdict {
+fn differential(data: &[u8], queries: &[Query], judge: Judge) -> Verdict {
     let Some((src, _)) = pair_source(data) else { return Ok(()) };
     for &q in queries {
         if let Some((c, _)) = src.build::<f32>() {
-            check(q, c)?;
+            check(q, c, judge)?;
         }
         if let Some((c, _)) = src.build::<f64>() {
-            check(q, c)?;
+            check(q, c, judge)?;
         }
     }
     Ok(())
@@ -216,43 +263,50 @@ fn differential(data: &[u8], queries: &[Query]) -> Verdict {
 
 /// Triangle distance (fast stage + PQP, and brute force), every variant and precision,
 /// against the oracle.
-pub fn tri_tri(data: &[u8]) -> Verdict {
-    differential(data, &[Query::TriTri, Query::TriTriBrute])
+pub fn tri_tri(data: &[u8], judge: Judge) -> Verdict {
+    differential(data, &[Query::TriTri, Query::TriTriBrute], judge)
 }
 
 /// Segment-segment distance against the oracle.
-pub fn seg_seg(data: &[u8]) -> Verdict {
-    differential(data, &[Query::SegSeg])
+pub fn seg_seg(data: &[u8], judge: Judge) -> Verdict {
+    differential(data, &[Query::SegSeg], judge)
 }
 
 /// Point-triangle distance against the oracle.
-pub fn point_tri(data: &[u8]) -> Verdict {
-    differential(data, &[Query::PointTri])
+pub fn point_tri(data: &[u8], judge: Judge) -> Verdict {
+    differential(data, &[Query::PointTri], judge)
 }
 
 /// The intersection predicate against the oracle.
-pub fn intersect(data: &[u8]) -> Verdict {
-    differential(data, &[Query::Intersect])
+pub fn intersect(data: &[u8], judge: Judge) -> Verdict {
+    differential(data, &[Query::Intersect], judge)
 }
 
 /// Within-margin must agree exactly with the full query of the same variant (squared distance
 /// when within the margin, +inf beyond), for every variant and both precisions; the margin is
 /// the extra `u16 / 4096`.
-pub fn within(data: &[u8]) -> Verdict {
+pub fn within(data: &[u8], judge: Judge) -> Verdict {
     let Some((src, mut rest)) = pair_source(data) else { return Ok(()) };
     let margin = f64::from(u16::arbitrary(&mut rest).unwrap_or(0)) / 4096.0;
     if let Some((c, _)) = src.build::<f32>() {
-        within_in(&c, margin as f32)?;
+        within_in(&c, margin as f32, judge)?;
     }
     if let Some((c, _)) = src.build::<f64>() {
-        within_in(&c, margin)?;
+        within_in(&c, margin, judge)?;
     }
     Ok(())
 }
 
-fn within_in<T: Float>(c: &Case<T>, margin: T) -> Verdict {
-    for isa in Isa::ALL {
-        let Some(e) = crate::eval::Variant::from_isa(isa).engine_or_skip() else { continue };
+fn within_in<T: Float>(c: &Case<T>, margin: T, judge: Judge) -> Verdict {
+    let engines: Vec<_> = Isa::ALL
+        .into_iter()
+        .filter_map(|isa| Some((isa, Variant::from_isa(isa).engine_or_skip()?)))
+        .collect();
+    let salt = salt::<T>(Query::Within);
+    for (k, &(isa, e)) in engines.iter().enumerate() {
+        if !judge.keeps(k, engines.len(), salt) {
+            continue;
+        }
         let (mut full, mut w) = ([T::ZERO], [T::ZERO]);
         e.sqdist_triangle_triangle(&c.a, &c.b, &mut full).map_err(|e| e.to_string())?;
         e.within_margin_triangle_triangle(&c.a, &c.b, margin, &mut w).map_err(|e| e.to_string())?;
@@ -268,7 +322,7 @@ fn within_in<T: Float>(c: &Case<T>, margin: T) -> Verdict {
 /// different escalation paths): the interval contains the exact distance, the answer's
 /// distance lies in it (up to its final rounding), and a pair reported certified has an
 /// interval within the tolerance. The tolerance is the extra byte.
-pub fn cert(data: &[u8]) -> Verdict {
+pub fn cert(data: &[u8], judge: Judge) -> Verdict {
     let Some((src, mut rest)) = pair_source(data) else { return Ok(()) };
     let tol = match u8::arbitrary(&mut rest).unwrap_or(0) % 4 {
         0 => Tolerance::DEFAULT,
@@ -277,21 +331,27 @@ pub fn cert(data: &[u8]) -> Verdict {
         _ => Tolerance::relative(1e-3),
     };
     if let Some((c, _)) = src.build::<f32>() {
-        cert_in(&c, tol)?;
+        cert_in(&c, tol, judge)?;
     }
     if let Some((c, _)) = src.build::<f64>() {
-        cert_in(&c, tol)?;
+        cert_in(&c, tol, judge)?;
     }
     Ok(())
 }
 
-fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance) -> Verdict {
+fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance, judge: Judge) -> Verdict {
     let cases = std::slice::from_ref(c);
     for &q in Query::ALL.iter().filter(|q| !q.is_verdict() && **q != Query::Within) {
         let (a, b) = exact_prims(q, c);
         let d2 = exact_d2(&a, &b);
-        for v in Variant::ALL {
-            let Some(e) = v.engine_or_skip() else { continue };
+        let s = crate::eval::truth(q, cases)[0].s;
+        let engines: Vec<_> =
+            Variant::ALL.into_iter().filter_map(|v| Some((v, v.engine_or_skip()?))).collect();
+        let salt = salt::<T>(q);
+        for (k, &(v, e)) in engines.iter().enumerate() {
+            if !judge.keeps(k, engines.len(), salt) {
+                continue;
+            }
             let e = e.tolerance(tol).map_err(|e| e.to_string())?;
             let o = crate::eval::run_with(e, q, v, cases, None).map_err(|e| e.to_string())?;
             let iv: Interval<T> = o.iv[0];
@@ -312,7 +372,6 @@ fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance) -> Verdict {
                     where_()
                 ));
             }
-            let s = crate::eval::truth(q, cases)[0].s;
             let allowed = (tol.scaled * T::UNIT_ROUNDOFF.to_f64() * s)
                 .max(tol.absolute)
                 .max(tol.relative * iv.lo.to_f64());
@@ -333,7 +392,7 @@ fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance) -> Verdict {
     Ok(())
 }
 
-fn raw_bits_in<T: Float>(words: &[u64]) -> Verdict {
+fn raw_bits_in<T: Float>(words: &[u64], judge: Judge) -> Verdict {
     let coords: Vec<T> = words.iter().map(|&w| T::from_bits_u64(w)).collect();
     for &q in Query::ALL {
         let (ka, kb) = q.arity();
@@ -358,8 +417,13 @@ fn raw_bits_in<T: Float>(words: &[u64]) -> Verdict {
         // a fixed margin: the default one (a fraction of the largest coordinate) is infinite
         // for infinite input, which `margin` rightly refuses
         let margins = vec![T::from_f64(0.5); n];
-        for v in Variant::ALL {
-            let Some(e) = v.engine_or_skip() else { continue };
+        let engines: Vec<_> =
+            Variant::ALL.into_iter().filter_map(|v| Some((v, v.engine_or_skip()?))).collect();
+        let salt = salt::<T>(q);
+        for (k, &(v, e)) in engines.iter().enumerate() {
+            if !judge.keeps(k, engines.len(), salt) {
+                continue;
+            }
             let o = crate::eval::run_with(e, q, v, &cases, Some(&margins))
                 .map_err(|e| format!("{} {}: {e}", q.name(), v.name()))?;
             for (i, c) in cases.iter().enumerate() {
@@ -403,20 +467,20 @@ fn raw_bits_in<T: Float>(words: &[u64]) -> Verdict {
 /// documented outcome: NaN (`Invalid` for intersection) exactly for pairs with a non-finite
 /// coordinate, otherwise a non-negative squared distance or +inf (overflow) with finite closest
 /// points and an ordered, non-negative interval.
-pub fn raw_bits(data: &[u8]) -> Verdict {
+pub fn raw_bits(data: &[u8], judge: Judge) -> Verdict {
     let w64: Vec<u64> = data
         .chunks_exact(8)
         .map(|c| u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
         .collect();
-    raw_bits_in::<f64>(&w64)?;
+    raw_bits_in::<f64>(&w64, judge)?;
     let w32: Vec<u64> =
         data.chunks_exact(4).map(|c| u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]]))).collect();
-    raw_bits_in::<f32>(&w32)
+    raw_bits_in::<f32>(&w32, judge)
 }
 
 /// The untrusted-text readers (OFF meshes, case lines): never panic; what parses is valid (face
 /// indices in range; case lines round-trip).
-pub fn parsers(data: &[u8]) -> Verdict {
+pub fn parsers(data: &[u8], _judge: Judge) -> Verdict {
     let Ok(text) = std::str::from_utf8(data) else { return Ok(()) };
     if let Ok(m) = Mesh::parse_off(text) {
         for t in &m.triangles {
@@ -451,7 +515,7 @@ pub fn parsers(data: &[u8]) -> Verdict {
 /// distance and closest points, bit for bit. Pairs are structured (or family) pairs rescaled by
 /// `2^e` across the whole f64 exponent range (the extra `i16`), or, after [`RAW_TAG`], 18 raw
 /// finite bit patterns (non-finite ones become 0).
-pub fn oracle_filter(data: &[u8]) -> Verdict {
+pub fn oracle_filter(data: &[u8], _judge: Judge) -> Verdict {
     let (a, b) = if data.len() > 144 && data[0] == RAW_TAG {
         let x = |k: usize| {
             let w = u64::from_le_bytes(data[1 + 8 * k..9 + 8 * k].try_into().unwrap_or([0; 8]));
@@ -542,7 +606,7 @@ mod tests {
                     _ => other += 1,
                 }
             }
-            assert_eq!(mesh(v), Ok(()), "seed {i}");
+            assert_eq!(mesh(v, Judge::All), Ok(()), "seed {i}");
         }
         assert!(rigid > 0 && scaled > 0 && other > 0, "rigid {rigid}, scaled {scaled}, other {other}");
     }
@@ -553,5 +617,25 @@ mod tests {
         let (src, _) = pair_source(&data).expect("80 bytes decode");
         assert!(matches!(src, PairSource::Built(_)));
         assert!(src.build::<f32>().is_some());
+    }
+
+    /// A sampling judge keeps exactly one of `n` candidates per check, and over many inputs
+    /// every candidate about equally often, for every salt; `All` keeps every one.
+    #[test]
+    fn a_sampling_judge_keeps_one_and_covers_all() {
+        for n in [1usize, 7, 14] {
+            for salt in 0..16u64 {
+                let mut seen = vec![0usize; n];
+                for k in 0..2000u32 {
+                    let j = Judge::of(&k.to_le_bytes());
+                    let kept: Vec<usize> = (0..n).filter(|&i| j.keeps(i, n, salt)).collect();
+                    assert_eq!(kept.len(), 1, "n {n} salt {salt} input {k}: {kept:?}");
+                    seen[kept[0]] += 1;
+                }
+                let (lo, hi) = (seen.iter().min().unwrap(), seen.iter().max().unwrap());
+                assert!(*lo * 2 > 2000 / n && *hi < 2 * 2000 / n + 1, "n {n} salt {salt}: {seen:?}");
+                assert!((0..n).all(|i| Judge::All.keeps(i, n, salt)));
+            }
+        }
     }
 }

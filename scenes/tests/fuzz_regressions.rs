@@ -5,19 +5,20 @@
 
 use std::path::{Path, PathBuf};
 
-use tridist_scenes::fuzzing::{seed_inputs, Target, TARGETS};
+use tridist_scenes::fuzzing::{seed_inputs, Judge, Target, TARGETS};
 
 fn regressions_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/regressions")
 }
 
-/// Runs `inputs` through `target`; returns one line per failing input. (The bodies return
+/// Runs `inputs` through `target`, judging every variant (the fuzzer judges one per input,
+/// picked from its hash: a finding replays on all); returns one line per failing input. (The bodies return
 /// their violation instead of panicking, so no process-wide panic hook is touched while other
 /// tests run.)
 fn replay(target: &Target, inputs: &[(String, Vec<u8>)]) -> Vec<String> {
     let mut failed = Vec::new();
     for (name, data) in inputs {
-        if let Err(msg) = (target.run)(data) {
+        if let Err(msg) = (target.run)(data, Judge::All) {
             failed.push(format!("{} {name}: {msg}", target.name));
         }
     }
@@ -84,7 +85,7 @@ fn family_seed_corpus_passes_every_pair_target() {
 
 #[test]
 fn replay_reports_a_failing_input() {
-    fn picky(data: &[u8]) -> Result<(), String> {
+    fn picky(data: &[u8], _: Judge) -> Result<(), String> {
         if data.first() == Some(&7) {
             Err("seven".into())
         } else {
