@@ -114,9 +114,10 @@ pub fn overflow_allowed(exact: &Rational, s: f64, prec: Precision, reach: f64) -
 pub const OVERFLOW_REACH: f64 = 8.0;
 
 /// `max(0, E - floor E)`: the error the kernel adds beyond rounding its answer. When the exact
-/// squared distance overflows the precision, `+inf` is the right answer (excess 0) and any
-/// finite answer is an infinite excess; `+inf` is also excess 0 where an answer within the E
-/// target would overflow ([`overflow_allowed`]).
+/// squared distance rounds to `+inf` in the precision, `+inf` is the right answer (excess 0) and
+/// a finite answer is judged by its own error (as everywhere: an answer within the E target may
+/// square just below the largest finite value where the exact square lies just above it); `+inf`
+/// is also excess 0 where an answer within the E target would overflow ([`overflow_allowed`]).
 pub fn excess(d2_hat: f64, exact: &Rational, s: f64, prec: Precision) -> f64 {
     excess_within(d2_hat, exact, s, prec, OVERFLOW_REACH)
 }
@@ -127,7 +128,8 @@ pub fn excess(d2_hat: f64, exact: &Rational, s: f64, prec: Precision) -> f64 {
 pub fn excess_within(d2_hat: f64, exact: &Rational, s: f64, prec: Precision, reach: f64) -> f64 {
     let r = prec.round(exact);
     if r.is_infinite() {
-        return if d2_hat == f64::INFINITY { 0.0 } else { f64::INFINITY };
+        // (the correctly rounded answer is +inf: its floor error is 0)
+        return if d2_hat == f64::INFINITY { 0.0 } else { scaled_error(d2_hat, exact, s, prec) };
     }
     if d2_hat == f64::INFINITY && overflow_allowed(exact, s, prec, reach) {
         return 0.0;

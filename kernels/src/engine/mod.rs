@@ -385,7 +385,8 @@ macro_rules! distance_methods {
                 /// # Behaviour
                 /// As the single query of the same name; touching and intersecting primitives give
                 /// exactly `0`, degenerate ones are the points or segments they are, NaN/inf input
-                /// gives NaN for that pair only, an overflowing square gives `+inf`.
+                /// gives NaN for that pair only, a square beyond the largest finite value gives
+                /// `+inf` (within the answer's error of that value, either `+inf` or a finite value).
                 ///
                 /// # Errors
                 /// [`Error::LengthMismatch`] when `a`, `b` and `out` disagree in length (a
