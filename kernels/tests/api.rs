@@ -451,20 +451,26 @@ fn threaded_batches_give_the_same_bits() {
     }
 }
 
+/// A touching pair far from the origin (exactly 3.67e-4 apart at `u S` = 0.14), found by
+/// `cargo fuzz run within`.
+const TOUCHING_FAR: (Triangle<f64>, Triangle<f64>) = (
+    [
+        [-783424.0, -1266637395981376.0, -140737489138752.0],
+        [140187731758016.1, -783424.0000000001, -549756597312.0],
+        [-549756597312.0, -549756597312.0, -783424.0],
+    ],
+    [
+        [140187731758016.0, -783424.0, -549756597312.0],
+        [-783424.0, -783424.0, 280925220113344.0],
+        [-783423.9999999993, -783424.0, -783424.0],
+    ],
+);
+
 #[test]
 fn within_margin_zero_agrees_for_touching_pairs_far_from_origin() {
     // Found by `cargo fuzz run within`: margin 0 on a pair the full query puts at distance 0;
     // the box test rejected it on a rounding-level gap. Fixed: absolute slack of 64 u S.
-    let a = [
-        [-783424.0, -1266637395981376.0, -140737489138752.0],
-        [140187731758016.1, -783424.0000000001, -549756597312.0],
-        [-549756597312.0, -549756597312.0, -783424.0],
-    ];
-    let b = [
-        [140187731758016.0, -783424.0, -549756597312.0],
-        [-783424.0, -783424.0, 280925220113344.0],
-        [-783423.9999999993, -783424.0, -783424.0],
-    ];
+    let (a, b) = TOUCHING_FAR;
     // The exact distance of this pair is 3.67e-4 at S = 1.27e15 (u S = 0.14): 0.0026 u S, far
     // inside the default tolerance (64 u S), where the contract lets margin 0 go either way.
     // What is pinned, per variant:
@@ -509,16 +515,7 @@ fn within_margin_zero_agrees_for_touching_pairs_far_from_origin() {
 #[cfg(feature = "exact")]
 #[test]
 fn the_exact_step_decides_margin_zero_far_from_the_origin() {
-    let a = [
-        [-783424.0, -1266637395981376.0, -140737489138752.0],
-        [140187731758016.1, -783424.0000000001, -549756597312.0],
-        [-549756597312.0, -549756597312.0, -783424.0],
-    ];
-    let b = [
-        [140187731758016.0, -783424.0, -549756597312.0],
-        [-783424.0, -783424.0, 280925220113344.0],
-        [-783423.9999999993, -783424.0, -783424.0],
-    ];
+    let (a, b) = TOUCHING_FAR;
     for e in engines() {
         let e = e.tolerance(Tolerance::EXACT).unwrap();
         let (mut w0, mut w1) = ([0.0f64], [0.0f64]);

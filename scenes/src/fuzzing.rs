@@ -75,6 +75,13 @@ impl Judge {
     }
 }
 
+/// The available variants (with their engines) `judge` keeps for `q` in precision `T`.
+fn judged_variants<T: Float>(q: Query, judge: Judge) -> Vec<(Variant, tridist::Engine)> {
+    let all: Vec<_> = Variant::ALL.into_iter().filter_map(|v| Some((v, v.engine_or_skip()?))).collect();
+    let (n, salt) = (all.len(), salt::<T>(q));
+    all.into_iter().enumerate().filter(|&(k, _)| judge.keeps(k, n, salt)).map(|(_, x)| x).collect()
+}
+
 /// A salt per (query, precision) for [`Judge::keeps`].
 fn salt<T: Float>(q: Query) -> u64 {
     let qi = Query::ALL.iter().position(|x| *x == q).unwrap_or(0) as u64;
@@ -357,13 +364,7 @@ fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance, judge: Judge) -> Verdict {
         let (a, b) = exact_prims(q, c);
         let d2 = exact_d2(&a, &b);
         let s = crate::eval::truth(q, cases)[0].s;
-        let engines: Vec<_> =
-            Variant::ALL.into_iter().filter_map(|v| Some((v, v.engine_or_skip()?))).collect();
-        let salt = salt::<T>(q);
-        for (k, &(v, e)) in engines.iter().enumerate() {
-            if !judge.keeps(k, engines.len(), salt) {
-                continue;
-            }
+        for (v, e) in judged_variants::<T>(q, judge) {
             let e = e.tolerance(tol).map_err(|e| e.to_string())?;
             let o = crate::eval::run_with(e, q, v, cases, None).map_err(|e| e.to_string())?;
             let iv: Interval<T> = o.iv[0];
@@ -429,13 +430,7 @@ fn raw_bits_in<T: Float>(words: &[u64], judge: Judge) -> Verdict {
         // a fixed margin: the default one (a fraction of the largest coordinate) is infinite
         // for infinite input, which `margin` rightly refuses
         let margins = vec![T::from_f64(0.5); n];
-        let engines: Vec<_> =
-            Variant::ALL.into_iter().filter_map(|v| Some((v, v.engine_or_skip()?))).collect();
-        let salt = salt::<T>(q);
-        for (k, &(v, e)) in engines.iter().enumerate() {
-            if !judge.keeps(k, engines.len(), salt) {
-                continue;
-            }
+        for (v, e) in judged_variants::<T>(q, judge) {
             let o = crate::eval::run_with(e, q, v, &cases, Some(&margins))
                 .map_err(|e| format!("{} {}: {e}", q.name(), v.name()))?;
             for (i, c) in cases.iter().enumerate() {

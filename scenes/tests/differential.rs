@@ -242,8 +242,6 @@ fn tight_verdicts<T: tridist_scenes::Float>(query: Query, failures: &mut Vec<Str
                 .unwrap_or_else(|err| panic!("{} {} {}: {err}", query.name(), v.name(), T::NAME));
             ran += 1;
             let (s, js) = summarise(query, &cases, &tr, &o, TIGHT + 1.0, Some(&ms));
-            // and under the default's allowance nothing changes: the band the tight tolerance
-            // judges is inside it
             println!(
                 "{} {} {} {} (tolerance {TIGHT} u S): misjudged {}, non-finite {}, uncertified {}",
                 query.name(),
