@@ -63,6 +63,14 @@ pub enum Error {
     /// A coordinate is NaN or infinite: a query point that is not finite, or a mesh whose
     /// moved bounding box leaves the precision's range (a moved vertex could overflow).
     NonFiniteCoordinate,
+    /// A setting the query does not offer: [`crate::Tolerance::CORRECTLY_ROUNDED`] for the
+    /// penalty method (an approximation) and the mesh queries.
+    Unsupported {
+        /// The query (`penalty`, `mesh_distance`, ...).
+        query: &'static str,
+        /// The setting.
+        setting: &'static str,
+    },
     /// A mesh index names no vertex.
     IndexOutOfRange {
         /// Triangle number.
@@ -112,6 +120,7 @@ impl core::fmt::Display for Error {
             Error::NonFiniteCoordinate => {
                 write!(f, "a coordinate is NaN or infinite (a query point, or a vertex moved out of range)")
             }
+            Error::Unsupported { query, setting } => write!(f, "{query} does not offer {setting}"),
             Error::IndexOutOfRange { triangle, index, vertices } => {
                 write!(f, "triangle {triangle} uses vertex index {index}, but there are {vertices} vertices")
             }

@@ -120,6 +120,14 @@ pub struct PathCounts {
     /// Pairs whose final interval is still wider than the tolerance (answered, not certified
     /// to it; their interval says how far off they may be).
     pub uncertified: u64,
+    /// Under [`crate::Tolerance::CORRECTLY_ROUNDED`]: pairs whose correctly rounded square
+    /// neither the f64 interval nor the exact oracle (off or not compiled in) decided,
+    /// answered with their f64 answer rounded once (also counted in `uncertified`).
+    pub undecided: u64,
+    /// Under [`crate::Tolerance::CORRECTLY_ROUNDED`]: pairs answered 0 by a proof of contact
+    /// where their interval could not decide: a point both primitives share, or an edge of one
+    /// triangle crossing the other's interior (orientation tests with a certified error bound).
+    pub crossed: u64,
 }
 
 impl PathCounts {
@@ -134,5 +142,7 @@ impl PathCounts {
         self.widened += o.widened;
         self.exact += o.exact;
         self.uncertified += o.uncertified;
+        self.undecided += o.undecided;
+        self.crossed += o.crossed;
     }
 }

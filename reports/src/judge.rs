@@ -312,6 +312,7 @@ fn judge_as<T: Float>(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Re
             // no certificate: the interval that contains everything
             iv: vec![Interval { lo: T::ZERO, hi: T::INFINITY }; n],
             verdict: idx.iter().map(|&i| ans[i].verdict).collect(),
+            certified: vec![false; n],
             counts: PathCounts::default(),
         };
         let (mut stats, js) = summarise(a.query, &cs, &ts, &out, VERDICT_ALLOW, None);

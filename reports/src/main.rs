@@ -141,7 +141,9 @@ struct KernelArgs {
     #[arg(long, value_enum, default_value = "f64")]
     precision: Prec,
     /// Certified-interval tolerance: `default` (64 u S), `exact`, `K` or `scaled:K` (K u S),
-    /// `abs:X`, `rel:R`, or a comma-separated combination (the widest applies).
+    /// `abs:X`, `rel:R`, or a comma-separated combination (the widest applies); or
+    /// `correctly-rounded` (every squared distance the exact one rounded to nearest, or the
+    /// pair counted undecided).
     #[arg(long, default_value = "default", value_parser = parse_tolerance, allow_hyphen_values = true)]
     tolerance: Tolerance,
     /// Threads (0: every core).
@@ -265,6 +267,7 @@ fn parse_tolerance(s: &str) -> Result<Tolerance, String> {
     match s {
         "default" => return Ok(Tolerance::DEFAULT),
         "exact" => return Ok(Tolerance::EXACT),
+        "correctly-rounded" => return Ok(Tolerance::CORRECTLY_ROUNDED),
         _ => {}
     }
     let mut t = Tolerance::EXACT;
@@ -332,8 +335,12 @@ fn cmd_report(
     mesh_poses: Option<u32>,
 ) -> Result<ExitCode, Fail> {
     let pick = |x: Option<u32>, q: u32, full: u32| x.unwrap_or(if quick { q } else { full });
-    let mut command =
-        format!("cargo run --release -p tridist-reports -- report{}", if quick { " --quick" } else { "" });
+    // the opt-in variants are measured only in a build that compiled them
+    let features = if cfg!(feature = "all-variants") { " --features all-variants" } else { "" };
+    let mut command = format!(
+        "cargo run --release -p tridist-reports{features} -- report{}",
+        if quick { " --quick" } else { "" }
+    );
     for (k, v) in
         [("--cases", cases), ("--pairs", pairs), ("--budget-ms", budget_ms), ("--mesh-poses", mesh_poses)]
     {
@@ -533,6 +540,14 @@ fn kernel_lines<T: Float>(e: Engine, q: Query, cases: &[Case<T>], a: &EvalArgs) 
         if a.intervals && !q.is_verdict() {
             let Interval { lo, hi } = out.iv[i];
             l.push_str(&format!(" [{lo:?}, {hi:?}]"));
+        }
+        // a square the correctly rounded mode could not decide is said to be so
+        if e.current_tolerance().correctly_rounded
+            && !q.is_verdict()
+            && !out.certified[i]
+            && !out.d[i].is_nan()
+        {
+            l.push_str(" undecided");
         }
         if let Some(js) = &judged {
             let finite = cases[i].a.iter().chain(cases[i].b.iter()).flatten().all(|x| x.is_finite());

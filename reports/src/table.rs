@@ -7,7 +7,7 @@ use std::path::Path;
 use tridist::PathCounts;
 
 /// The CSV header, in order.
-pub const HEADER: [&str; 18] = [
+pub const HEADER: [&str; 19] = [
     "workload",
     "query",
     "implementation",
@@ -26,6 +26,7 @@ pub const HEADER: [&str; 18] = [
     "widened",
     "exact",
     "uncertified",
+    "undecided",
 ];
 
 /// One throughput measurement: a kernel variant (implementation = variant name) or a peer
@@ -107,6 +108,7 @@ impl TRow {
                 c.widened,
                 c.exact,
                 c.uncertified,
+                c.undecided,
             ]
             .map(|x| x.to_string()),
         );
@@ -135,7 +137,9 @@ pub fn write(path: &Path, rows: &[TRow]) -> Result<(), String> {
 pub fn read(path: &Path) -> Result<Vec<TRow>, String> {
     let mut r = csv::Reader::from_path(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let h = r.headers().map_err(|e| format!("{}: {e}", path.display()))?.clone();
-    if h.iter().ne(HEADER) {
+    // files written before the `undecided` column (the correctly rounded mode) read as 0 there
+    let old = h.len() == HEADER.len() - 1 && h.iter().eq(HEADER[..HEADER.len() - 1].iter().copied());
+    if h.iter().ne(HEADER) && !old {
         return Err(format!("{}: header is {:?}, expected {:?}", path.display(), h, HEADER));
     }
     let mut out = Vec::new();
@@ -198,6 +202,7 @@ pub fn read(path: &Path) -> Result<Vec<TRow>, String> {
                 c.widened = num(15)?;
                 c.exact = num(16)?;
                 c.uncertified = num(17)?;
+                c.undecided = if old { 0 } else { num(18)? };
                 c
             },
         });

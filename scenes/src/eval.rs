@@ -124,9 +124,13 @@ impl Variant {
 
 /// The environment variable that names the instruction sets a run must exercise: a
 /// comma-separated list of [`tridist::Isa`] names (`avx2fma,avx512`), or `detected` for every
-/// one this CPU runs. CI sets it, so that "skipped: the CPU lacks it" cannot hide a variant
+/// one this CPU runs ([`OPT_IN`] variants only where compiled in). CI sets it, so that "skipped: the CPU lacks it" cannot hide a variant
 /// that the machine has (or a build that left it out).
 pub const REQUIRE_ENV: &str = "TRIDIST_REQUIRE_ISA";
+
+/// The variants compiled only on request (the library's features `avx` and `avx512vl`; this
+/// crate's `all-variants`).
+pub const OPT_IN: [Isa; 2] = [Isa::Avx, Isa::Avx512Vl];
 
 /// The instruction sets this run must exercise ([`REQUIRE_ENV`]; none when unset). An unknown
 /// name panics: a typo must not turn the requirement off.
@@ -136,7 +140,13 @@ pub fn required_isas() -> Vec<Isa> {
     for name in s.split(',').map(str::trim).filter(|n| !n.is_empty()) {
         if name == "detected" {
             out.extend(Isa::ALL.into_iter().filter(|i| {
-                // what the CPU runs, compiled or not: a variant left out of the build fails
+                // What the CPU runs, compiled or not: a variant left out of the build fails. The
+                // opt-in variants (features `avx`, `avx512vl`, this crate's `all-variants`) are
+                // required where compiled in; the build that turns them on checks that it did
+                // (tests/opt_in.rs).
+                if !i.is_compiled() && OPT_IN.contains(i) {
+                    return false;
+                }
                 let mut all = *i == Isa::Scalar;
                 #[cfg(target_arch = "x86_64")]
                 {
@@ -179,6 +189,9 @@ pub struct Output<T> {
     pub iv: Vec<Interval<T>>,
     /// Intersection verdicts.
     pub verdict: Vec<Intersection>,
+    /// Whether each pair met the engine's tolerance ([`tridist::Outputs::certified`]; under
+    /// the correctly rounded mode, `false` for an undecided pair).
+    pub certified: Vec<bool>,
     /// Which path the pairs took.
     pub counts: PathCounts,
 }
@@ -192,6 +205,7 @@ impl<T: Float> Output<T> {
             q: vec![[T::ZERO; 3]; n],
             iv: vec![Interval::default(); n],
             verdict: vec![Intersection::Invalid; n],
+            certified: vec![false; n],
             counts: PathCounts::default(),
         }
     }
@@ -255,6 +269,7 @@ pub fn run_with<T: Float>(
             o.q[i] = one.q[0];
             o.iv[i] = one.iv[0];
             o.verdict[i] = one.verdict[0];
+            o.certified[i] = one.certified[0];
             o.counts.add(&one.counts);
         }
         return Ok(o);
@@ -272,13 +287,14 @@ fn run_pairs<T: Float>(
     let (pa, pb): (Vec<_>, Vec<_>) = cases.iter().map(|c| prims(query, c)).unzip();
     // a verdict query computes no distance: asking it for one is an error
     let out = if query.is_verdict() {
-        Outputs::new().verdicts(&mut o.verdict)
+        Outputs::new().verdicts(&mut o.verdict).certified(&mut o.certified)
     } else {
         Outputs::new()
             .sqdist(&mut o.d)
             .points(&mut o.p, &mut o.q)
             .intervals(&mut o.iv)
             .verdicts(&mut o.verdict)
+            .certified(&mut o.certified)
     };
     o.counts = match query.arity() {
         (2, 2) => {

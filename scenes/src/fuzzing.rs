@@ -343,10 +343,13 @@ fn within_in<T: Float>(c: &Case<T>, margin: T, judge: Judge) -> Verdict {
 /// interval within the tolerance. The tolerance is the extra byte.
 pub fn cert(data: &[u8], judge: Judge) -> Verdict {
     let Some((src, mut rest)) = pair_source(data) else { return Ok(()) };
-    let tol = match u8::arbitrary(&mut rest).unwrap_or(0) % 4 {
-        0 => Tolerance::DEFAULT,
-        1 => Tolerance::EXACT,
-        2 => Tolerance::scaled(1.0),
+    let t = u8::arbitrary(&mut rest).unwrap_or(0);
+    // (4 mod 8 was the default tolerance before the correctly rounded mode took it)
+    let tol = match (t % 8, t % 4) {
+        (4, _) => Tolerance::CORRECTLY_ROUNDED,
+        (_, 0) => Tolerance::DEFAULT,
+        (_, 1) => Tolerance::EXACT,
+        (_, 2) => Tolerance::scaled(1.0),
         _ => Tolerance::relative(1e-3),
     };
     if let Some((c, _)) = src.build::<f32>() {
@@ -361,6 +364,10 @@ pub fn cert(data: &[u8], judge: Judge) -> Verdict {
 fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance, judge: Judge) -> Verdict {
     let cases = std::slice::from_ref(c);
     for &q in Query::ALL.iter().filter(|q| !q.is_verdict() && **q != Query::Within) {
+        if tol.correctly_rounded && q.is_approximate() {
+            // the penalty method refuses the mode (tested in kernels/tests/rounded.rs)
+            continue;
+        }
         let (a, b) = exact_prims(q, c);
         let d2 = exact_d2(&a, &b);
         let s = crate::eval::truth(q, cases)[0].s;
@@ -394,6 +401,23 @@ fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance, judge: Judge) -> Verdict {
             let narrowing = 4.0 * T::UNIT_ROUNDOFF.to_f64() * iv.hi.to_f64();
             // and two subnormal steps at each end when the ends are subnormal (Tolerance docs)
             let subnormal = 4.0 * T::from_bits_u64(1).to_f64();
+            // correctly rounded: a certified answer is RN(D*) bit for bit (its interval may be
+            // as wide as the stage that decided it left it)
+            if tol.correctly_rounded {
+                let rn = match T::PRECISION {
+                    tridist::Precision::F32 => T::from_f64(tridist_oracle::round::to_f32(&d2) as f64),
+                    tridist::Precision::F64 => T::from_f64(tridist_oracle::round::to_f64(&d2)),
+                };
+                if certified && o.d[0].to_bits_u64() != rn.to_bits_u64() {
+                    return Err(format!(
+                        "correctly rounded mode answered {:e}, RN(D*) is {:e}: {}",
+                        o.d[0].to_f64(),
+                        rn.to_f64(),
+                        where_()
+                    ));
+                }
+                continue;
+            }
             if certified && q != Query::Penalty && w.is_finite() && w > allowed + narrowing + subnormal {
                 return Err(format!(
                     "certified with width {w:e} above the tolerance {allowed:e}: {}",

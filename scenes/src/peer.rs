@@ -313,6 +313,7 @@ pub fn judge_cases<T: Peer>(lib: Lib, cases: &[Case<T>]) -> Stats {
         // no certificate: the interval that contains everything
         iv: vec![Interval { lo: T::ZERO, hi: T::INFINITY }; n],
         verdict: vec![Intersection::Invalid; n],
+        certified: vec![false; n],
         counts: PathCounts::default(),
     };
     let allow = crate::bounds::VERDICT_ALLOW;

@@ -52,7 +52,7 @@ impl<'a, T: Real> Sink<'a, T> {
     }
 
     #[inline(always)]
-    pub(super) fn put(&mut self, i: usize, o: &Lane<T>) {
+    pub(crate) fn put(&mut self, i: usize, o: &Lane<T>) {
         if let Some(s) = self.d.as_deref_mut() {
             s[i] = o.d;
         }

@@ -2,6 +2,7 @@
 //! threads, and the outputs the caller asks for.
 
 mod options;
+mod rounded;
 #[cfg(test)]
 mod tests;
 mod threads;
@@ -336,9 +337,11 @@ impl Engine {
             ("q", s.q.as_ref().map(|x| x.len())),
             ("intervals", s.iv.as_ref().map(|x| x.len())),
             ("iterations", s.iters.as_ref().map(|x| x.len())),
+            ("certified", s.ok.as_ref().map(|x| x.len())),
         ];
         for (what, len) in lens {
-            if query.is_verdict() && len.is_some() && !matches!(what, "verdicts" | "iterations") {
+            if query.is_verdict() && len.is_some() && !matches!(what, "verdicts" | "iterations" | "certified")
+            {
                 return Err(Error::NoSuchOutput { query, output: what });
             }
             if let Some(len) = len {
@@ -346,6 +349,9 @@ impl Engine {
                     return Err(Error::LengthMismatch { what, expected: n, found: len });
                 }
             }
+        }
+        if self.tol.correctly_rounded && query == Query::Penalty {
+            return Err(Error::Unsupported { query: "penalty", setting: "correctly rounded answers" });
         }
         let job = Job {
             query,
@@ -358,6 +364,9 @@ impl Engine {
             widen: true,
             exact: self.exact,
         };
+        if self.tol.correctly_rounded && !query.is_verdict() {
+            return Ok(self.run_rounded(job));
+        }
         Ok(self.exec(job))
     }
 

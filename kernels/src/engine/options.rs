@@ -106,6 +106,31 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 ///
 /// The penalty method is never escalated (the caller chose an approximation): its interval
 /// says how far off it is.
+///
+/// # Correctly rounded answers
+/// [`Tolerance::CORRECTLY_ROUNDED`] is the top of the trade: every squared distance returned
+/// (segment-segment, point-triangle, triangle-triangle and its brute force, within-margin) is
+/// `RN(D*)`, the exact squared distance of the primitives as given rounded to nearest, ties to
+/// even, in the input's precision, including subnormal results and `+inf` beyond the largest
+/// finite value; so it is the same bits on every CPU, variant, layout and thread count. Each
+/// pair is answered in f64 (f32 input exactly widened) and decided from its certified
+/// interval when both ends of the squares' interval round to one value; the others go to the
+/// exact oracle (feature `exact`). Without the oracle (feature off, or [`Engine::exact`](crate::Engine::exact)`(false)`)
+/// an undecided pair is answered with its f64 answer rounded once, marked uncertified and
+/// counted in [`PathCounts::undecided`](crate::PathCounts::undecided): never passed off as correctly rounded. In
+/// practice f32 input is decided in f64 for all but pairs far closer than their size (the
+/// report gives the fractions per family); f64 input needs the oracle for most pairs.
+///
+/// * Within-margin keeps a pair when its correctly rounded square is at most
+///   `margin * margin` rounded in the input's precision.
+/// * Closest points are those of the answer that decided the pair, rounded once: on their
+///   primitives within the f64 answer's guarantee (or the oracle's exact points rounded), not
+///   the same bits on every variant. Intervals are the f64 ones rounded outward.
+/// * Intersection verdicts ([`Query::Intersect`](crate::Query::Intersect)) are decided as under
+///   [`Tolerance::EXACT`]. The penalty method, an approximation, refuses the mode
+///   ([`Error::Unsupported`](crate::Error::Unsupported)), as do the mesh queries for now.
+///
+/// The square root of `RN(D*)` is not always `RN(sqrt(D*))`: the mode rounds squares.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct Tolerance {
@@ -115,27 +140,36 @@ pub struct Tolerance {
     pub absolute: f64,
     /// Relative to the distance (times the certified lower bound).
     pub relative: f64,
+    /// Every squared distance correctly rounded ([`Tolerance::CORRECTLY_ROUNDED`]); the widths
+    /// above are then unused.
+    pub correctly_rounded: bool,
 }
 
 impl Tolerance {
     /// The default: `64 u S`. Measured: the fast stage certifies nearly every generic pair at
     /// this width (the report publishes the fractions per family), while the distance error it
     /// admits stays far below it (ACCURACY.md).
-    pub const DEFAULT: Tolerance = Tolerance { scaled: 64.0, absolute: 0.0, relative: 0.0 };
+    pub const DEFAULT: Tolerance =
+        Tolerance { scaled: 64.0, absolute: 0.0, relative: 0.0, correctly_rounded: false };
     /// Nothing but exact answers are accepted (see the type docs).
-    pub const EXACT: Tolerance = Tolerance { scaled: 0.0, absolute: 0.0, relative: 0.0 };
+    pub const EXACT: Tolerance =
+        Tolerance { scaled: 0.0, absolute: 0.0, relative: 0.0, correctly_rounded: false };
+    /// Every squared distance is the exact one correctly rounded (see the type docs,
+    /// "Correctly rounded answers").
+    pub const CORRECTLY_ROUNDED: Tolerance =
+        Tolerance { scaled: 0.0, absolute: 0.0, relative: 0.0, correctly_rounded: true };
 
     /// `k * u * S`.
     pub const fn scaled(k: f64) -> Tolerance {
-        Tolerance { scaled: k, absolute: 0.0, relative: 0.0 }
+        Tolerance { scaled: k, absolute: 0.0, relative: 0.0, correctly_rounded: false }
     }
     /// An absolute distance.
     pub const fn absolute(x: f64) -> Tolerance {
-        Tolerance { scaled: 0.0, absolute: x, relative: 0.0 }
+        Tolerance { scaled: 0.0, absolute: x, relative: 0.0, correctly_rounded: false }
     }
     /// Relative to the distance.
     pub const fn relative(r: f64) -> Tolerance {
-        Tolerance { scaled: 0.0, absolute: 0.0, relative: r }
+        Tolerance { scaled: 0.0, absolute: 0.0, relative: r, correctly_rounded: false }
     }
 
     pub(super) fn check(&self) -> Result<(), Error> {
@@ -270,6 +304,14 @@ impl<'a, T: Real> Outputs<'a, T> {
     /// Iterations used (penalty method; 0 for the other queries).
     pub fn iterations(mut self, out: &'a mut [u32]) -> Self {
         self.sink.iters = Some(out);
+        self
+    }
+    /// Whether each pair's answer met the tolerance: `false` for the pairs
+    /// [`PathCounts::uncertified`](crate::PathCounts::uncertified) counts (and, under
+    /// [`Tolerance::CORRECTLY_ROUNDED`], those [`PathCounts::undecided`](crate::PathCounts::undecided)
+    /// counts: their square is not known to be correctly rounded), and for non-finite input.
+    pub fn certified(mut self, out: &'a mut [bool]) -> Self {
+        self.sink.ok = Some(out);
         self
     }
 }

@@ -41,7 +41,9 @@ impl Engine {
     ///
     /// # Errors
     /// [`Error::InvalidPose`] for a non-finite pose, [`Error::NonFiniteCoordinate`] when a
-    /// moved coordinate overflows.
+    /// moved coordinate overflows, [`Error::Unsupported`] under
+    /// [`crate::Tolerance::CORRECTLY_ROUNDED`] (not offered for meshes yet; the decisions of
+    /// the other mesh queries run under it as under [`crate::Tolerance::EXACT`]).
     pub fn mesh_distance<T: Real>(
         &self,
         a: &Mesh<T>,
@@ -49,6 +51,9 @@ impl Engine {
         b: &Mesh<T>,
         pose_b: &Pose<T>,
     ) -> Result<Option<MeshDistance<T>>, Error> {
+        if self.current_tolerance().correctly_rounded {
+            return Err(Error::Unsupported { query: "mesh_distance", setting: "correctly rounded answers" });
+        }
         let mut s = Nearest::new(self.current_tolerance());
         s.widen_after = Engine::MESH_DISTANCE_WIDEN_AFTER.max(a.len() + b.len());
         search(self, a, pose_a, b, pose_b, &mut s)?;
@@ -163,13 +168,20 @@ impl Engine {
     /// still; for f64, farther than about 1.3e154, a point of the first triangle answered).
     ///
     /// # Errors
-    /// [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`] (also for a non-finite `x`).
+    /// [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`] (also for a non-finite `x`),
+    /// [`Error::Unsupported`] under [`crate::Tolerance::CORRECTLY_ROUNDED`].
     pub fn mesh_closest_point<T: Real>(
         &self,
         m: &Mesh<T>,
         pose: &Pose<T>,
         x: Point<T>,
     ) -> Result<Option<MeshPoint<T>>, Error> {
+        if self.current_tolerance().correctly_rounded {
+            return Err(Error::Unsupported {
+                query: "mesh_closest_point",
+                setting: "correctly rounded answers",
+            });
+        }
         pose.check()?;
         if x.iter().any(|c| !c.is_finite()) {
             return Err(Error::NonFiniteCoordinate);

@@ -1,0 +1,325 @@
+//! Correctly rounded answers ([`Tolerance::CORRECTLY_ROUNDED`]): every returned squared
+//! distance is `RN(D*)`, the exact squared distance rounded to nearest (ties to even) in the
+//! input's precision, or the pair is reported undecided.
+//!
+//! A block of pairs runs in f64 (f32 input exactly widened) at the default tolerance, which
+//! gives each pair a certified interval `[lo, hi]` of its distance. Rounding to nearest is
+//! monotonic, so when the ends of `[lo^2, hi^2]` (bounded outward) round to the same value of
+//! the input's precision, every square in between does, `D*` among them: that value is the
+//! answer ([`decide`]). The pairs this leaves undecided go to the exact oracle (feature
+//! `exact`), whose square is correctly rounded; without it they are answered with their f64
+//! answer rounded once and counted in [`PathCounts::undecided`] (and `uncertified`), never
+//! passed off as correctly rounded.
+
+use super::{Engine, Tolerance};
+use crate::drv::{Job, Lane, Sink, Src};
+use crate::query::Query;
+use crate::real::{Precision, Real};
+use crate::types::{Interval, PathCounts, Point};
+
+/// Pairs answered per block: the f64 copies and answers of a block are held at once.
+const BLOCK: usize = 8192;
+
+/// The value of `T` that every square in `[lo^2, hi^2]` rounds to (to nearest), when there is
+/// one: `lo <= hi` bound a distance (f64, non-negative, certified).
+pub(crate) fn decide<T: Real>(lo: f64, hi: f64) -> Option<T> {
+    if !(lo >= 0.0 && lo <= hi) {
+        return None;
+    }
+    // `lo * lo` and `hi * hi` are the squares rounded to nearest in f64.
+    let (a, b) = (lo * lo, hi * hi);
+    match T::PRECISION {
+        // RN(lo^2) = a and RN(hi^2) = b: equal ends decide every square between them.
+        Precision::F64 => (a == b).then(|| T::from_f64(a)),
+        // The exact squares lie within half an ulp of `a` and `b`, so in [pred(a), succ(b)];
+        // f64 -> f32 conversion rounds to nearest, ties to even.
+        Precision::F32 => {
+            let (l, h) = (a.next_down().max(0.0) as f32, b.next_up() as f32);
+            (l == h).then(|| T::from_f64(l as f64))
+        }
+    }
+}
+
+/// The f64 answers of some pairs: squared distances, closest points, intervals.
+struct Answers64 {
+    d: Vec<f64>,
+    p: Vec<Point<f64>>,
+    q: Vec<Point<f64>>,
+    iv: Vec<Interval<f64>>,
+    counts: PathCounts,
+}
+
+impl Engine {
+    /// [`Engine::run`] for a distance query under [`Tolerance::CORRECTLY_ROUNDED`]: `job` is
+    /// validated; its `prm` holds the margin of [`Query::Within`].
+    ///
+    /// Per block: every pair in f64 at the default tolerance (the cheapest certified pass);
+    /// the pairs its interval does not decide (nor a proof of contact) once more in f64 at
+    /// [`Tolerance::EXACT`], whose accurate stages give the tightest intervals the precision
+    /// can certify (pairs far closer than their size, where the first interval is too wide
+    /// for one rounding cell of the square); what is left to the exact oracle, or undecided.
+    pub(super) fn run_rounded<T: Real>(&self, mut job: Job<'_, T>) -> PathCounts {
+        // Within-margin is triangle-triangle distance, thresholded on the rounded square.
+        let query = if job.query == Query::Within { Query::TriTri } else { job.query };
+        let loose = Engine { tol: Tolerance::DEFAULT, exact: false, ..*self };
+        let tight = Engine { tol: Tolerance::EXACT, exact: false, ..*self };
+        let mut counts = PathCounts::default();
+        let mut start = 0;
+        while start < job.n {
+            let end = (start + BLOCK).min(job.n);
+            let ids: Vec<usize> = (start..end).collect();
+            let first = loose.answers64(&job, query, &ids);
+            counts.add(&PathCounts { pairs: 0, uncertified: 0, ..first.counts });
+            counts.pairs += ids.len() as u64;
+            if T::PRECISION == Precision::F32 {
+                counts.widened += ids.len() as u64;
+            }
+            let mut open = Vec::new();
+            for (m, &i) in ids.iter().enumerate() {
+                match rounded_lane(&job, i, &first, m, &mut counts) {
+                    Ok(lane) => put(&mut job, i, lane),
+                    Err(_) => open.push(i),
+                }
+            }
+            if !open.is_empty() {
+                let second = tight.answers64(&job, query, &open);
+                counts.recertified += open.len() as u64;
+                for (m, &i) in open.iter().enumerate() {
+                    let lane = match rounded_lane(&job, i, &second, m, &mut counts) {
+                        Ok(lane) => lane,
+                        Err(lane) => match exact_lane(self, &job, i) {
+                            Some(x) => {
+                                counts.exact += 1;
+                                x
+                            }
+                            None => {
+                                counts.undecided += 1;
+                                counts.uncertified += 1;
+                                lane
+                            }
+                        },
+                    };
+                    put(&mut job, i, lane);
+                }
+            }
+            start = end;
+        }
+        counts
+    }
+
+    /// The f64 answers of pairs `ids` of `job` to `query` on this engine (its tolerance).
+    fn answers64<T: Real>(&self, job: &Job<'_, T>, query: Query, ids: &[usize]) -> Answers64 {
+        let (ka, kb) = (job.a.k(), job.b.k());
+        let n = ids.len();
+        let widen = |s: &Src<'_, T>, k: usize| -> Vec<f64> {
+            let mut v = Vec::with_capacity(n * 3 * k);
+            for &i in ids {
+                for j in 0..3 * k {
+                    v.push(s.at(i, j).to_f64());
+                }
+            }
+            v
+        };
+        let (fa, fb) = (widen(&job.a, ka), widen(&job.b, kb));
+        let mut r = Answers64 {
+            d: vec![0.0; n],
+            p: vec![[0.0; 3]; n],
+            q: vec![[0.0; 3]; n],
+            iv: vec![Interval::default(); n],
+            counts: PathCounts::default(),
+        };
+        let sub = Job {
+            query,
+            a: Src::Aos { flat: &fa, k: ka },
+            b: Src::Aos { flat: &fb, k: kb },
+            n,
+            prm: self.params::<f64>(),
+            sink: Sink {
+                d: Some(&mut r.d),
+                p: Some(&mut r.p),
+                q: Some(&mut r.q),
+                iv: Some(&mut r.iv),
+                ..Sink::default()
+            },
+            counts: PathCounts::default(),
+            widen: false,
+            exact: false,
+        };
+        r.counts = self.exec(sub);
+        r
+    }
+}
+
+/// Writes pair `i`'s answer (within-margin: `+inf` beyond the margin, on the rounded square).
+fn put<T: Real>(job: &mut Job<'_, T>, i: usize, lane: Lane<T>) {
+    let m = job.prm.margin;
+    let lane =
+        if job.query == Query::Within && lane.d > m * m { Lane { d: T::INFINITY, ..lane } } else { lane };
+    job.sink.put(i, &lane);
+}
+
+/// Pair `i`'s answer from its f64 answer (number `m` of `r`): `Ok` with the decided square (or
+/// NaN for non-finite input), `Err` with the f64 answer rounded once when undecided.
+fn rounded_lane<T: Real>(
+    job: &Job<'_, T>,
+    i: usize,
+    r: &Answers64,
+    m: usize,
+    counts: &mut PathCounts,
+) -> Result<Lane<T>, Lane<T>> {
+    let (d, iv) = (r.d[m], r.iv[m]);
+    let cv = |x: f64| T::from_f64(x);
+    // the f64 interval, rounded outward to T
+    let lo = {
+        let l = cv(iv.lo);
+        if l.to_f64() > iv.lo {
+            l.step(false)
+        } else {
+            l
+        }
+    };
+    let hi = {
+        let h = cv(iv.hi);
+        if h.to_f64() < iv.hi {
+            h.step(true)
+        } else {
+            h
+        }
+    };
+    let lo = if lo < T::ZERO { T::ZERO } else { lo };
+    let lane = Lane { d: cv(d), p: r.p[m].map(cv), q: r.q[m].map(cv), lo, hi, ok: true, it: 0 };
+    if d.is_nan() {
+        // non-finite input: NaN, as in every mode
+        return Ok(Lane { ok: false, ..lane });
+    }
+    if let Some(v) = decide::<T>(iv.lo, iv.hi) {
+        return Ok(Lane { d: v, ..lane });
+    }
+    // A contact: an interval from 0 decides nothing, a proof that the distance is 0 does: a
+    // point the primitives share (mesh neighbours), or an edge crossing a triangle.
+    if iv.lo == 0.0 {
+        let (a, b) = (prim64(&job.a, i), prim64(&job.b, i));
+        let (ka, kb) = (job.a.k(), job.b.k());
+        if a[..ka].iter().any(|p| b[..kb].contains(p)) || (ka == 3 && kb == 3 && crossing(&a, &b)) {
+            counts.crossed += 1;
+            return Ok(Lane { d: T::ZERO, ..lane });
+        }
+    }
+    Err(Lane { ok: false, ..lane })
+}
+
+/// Primitive `i` of `s` in f64 (exact; points beyond its arity repeat the first).
+fn prim64<T: Real>(s: &Src<'_, T>, i: usize) -> [[f64; 3]; 3] {
+    let k = s.k();
+    [0, 1, 2].map(|v| [0, 1, 2].map(|c| s.at(i, 3 * (if v < k { v } else { 0 }) + c).to_f64()))
+}
+
+/// The sign of `det[a - d, b - d, c - d]` (positive: `d` below the plane of `a, b, c` seen
+/// counter-clockwise), when the floating-point value proves it: Shewchuk's static error bound
+/// of `orient3d` (his `o3derrboundA`, which covers the rounded differences), on differences in
+/// `[1e-80, 1e80]` or zero so that no product underflows or overflows. `None`: not proven.
+fn orient3d(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> Option<i8> {
+    let diff = |p: &[f64; 3]| [p[0] - d[0], p[1] - d[1], p[2] - d[2]];
+    let (ad, bd, cd) = (diff(a), diff(b), diff(c));
+    let safe = |x: f64| x == 0.0 || (1e-80..=1e80).contains(&x.abs());
+    if !ad.iter().chain(&bd).chain(&cd).all(|&x| safe(x)) {
+        return None;
+    }
+    let (bc, cb) = (bd[1] * cd[2], bd[2] * cd[1]);
+    let (ca, ac) = (cd[1] * ad[2], cd[2] * ad[1]);
+    let (ab, ba) = (ad[1] * bd[2], ad[2] * bd[1]);
+    let det = ad[0] * (bc - cb) + bd[0] * (ca - ac) + cd[0] * (ab - ba);
+    let perm = (bc.abs() + cb.abs()) * ad[0].abs()
+        + (ca.abs() + ac.abs()) * bd[0].abs()
+        + (ab.abs() + ba.abs()) * cd[0].abs();
+    // (7 + 56 eps) eps, eps = 2^-53
+    let bound = 7.771_561_172_376_103e-16 * perm;
+    if det > bound {
+        Some(1)
+    } else if -det > bound {
+        Some(-1)
+    } else {
+        None
+    }
+}
+
+/// Does segment `p q` provably cross the interior of triangle `t` (its ends strictly on either
+/// side of the plane, its line strictly inside the three edges)?
+fn pierces(p: &[f64; 3], q: &[f64; 3], t: &[[f64; 3]; 3]) -> bool {
+    let side = |x| orient3d(&t[0], &t[1], &t[2], x);
+    let (Some(sp), Some(sq)) = (side(p), side(q)) else { return false };
+    if sp == sq {
+        return false;
+    }
+    let e = |i: usize| orient3d(p, q, &t[i], &t[(i + 1) % 3]);
+    match (e(0), e(1), e(2)) {
+        (Some(x), Some(y), Some(z)) => x == y && y == z,
+        _ => false,
+    }
+}
+
+/// Do two triangles provably intersect: an edge of one crossing the other's interior? (Every
+/// pair of intersecting triangles in general position has one; a touching or coplanar pair is
+/// left to the oracle.) Then the distance is exactly 0.
+fn crossing(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> bool {
+    (0..3).any(|i| pierces(&a[i], &a[(i + 1) % 3], b) || pierces(&b[i], &b[(i + 1) % 3], a))
+}
+
+/// The exact oracle's answer for pair `i` (feature `exact`, when the engine uses it).
+#[cfg(feature = "exact")]
+fn exact_lane<T: Real>(e: &Engine, job: &Job<'_, T>, i: usize) -> Option<Lane<T>> {
+    if !e.uses_exact() {
+        return None;
+    }
+    let x = crate::exact::answer(job.a.k(), &job.a.prim(i), job.b.k(), &job.b.prim(i))?;
+    Some(Lane { d: x.d, p: x.p, q: x.q, lo: x.lo, hi: x.hi, ok: true, it: 0 })
+}
+
+#[cfg(not(feature = "exact"))]
+fn exact_lane<T: Real>(_: &Engine, _: &Job<'_, T>, _: usize) -> Option<Lane<T>> {
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{crossing, decide, orient3d};
+
+    #[test]
+    fn crossings_are_proven_and_near_misses_are_not() {
+        let a = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        // an edge of b through a's interior
+        assert!(crossing(&a, &[[0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [5.0, 5.0, 0.5]]));
+        // the same edge just beside a's hypotenuse: no crossing
+        assert!(!crossing(&a, &[[0.5, 0.5000001, -1.0], [0.5, 0.5000001, 1.0], [5.0, 5.0, 0.5]]));
+        // touching at a vertex, and coplanar: not proven (the oracle decides those)
+        assert!(!crossing(&a, &[[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]]));
+        assert!(!crossing(&a, &[[0.1, 0.1, 0.0], [0.5, 0.1, 0.0], [0.1, 0.5, 0.0]]));
+        // a point 1e-17 off a plane through the origin is proven below, one exactly on it is not
+        let (p, q, r) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]);
+        assert_eq!(orient3d(&p, &q, &r, &[0.3, 0.3, 1e-17]).map(i8::signum), Some(-1));
+        assert_eq!(orient3d(&p, &q, &r, &[0.3, 0.3, 0.0]), None);
+        // differences beyond the safe range are not judged
+        assert_eq!(orient3d(&p, &q, &r, &[0.3, 0.3, 1e-90]), None);
+    }
+
+    #[test]
+    fn decides_only_inside_one_rounding_cell() {
+        // exact ends
+        assert_eq!(decide::<f64>(3.0, 3.0), Some(9.0));
+        assert_eq!(decide::<f32>(0.0, 0.0), Some(0.0));
+        // f64: the squares of two neighbours differ
+        assert_eq!(decide::<f64>(3.0, 3.0f64.next_up()), None);
+        // f32: an f64 interval far inside one f32 cell decides; one across a midpoint does not
+        let x = 1.5f64;
+        assert_eq!(decide::<f32>(x, x.next_up()), Some(2.25f32));
+        let one_up = 1.0f32.next_up() as f64; // 1 + 2^-23
+        let m = (1.0 + one_up) / 2.0; // the f32 midpoint above 1 (exact in f64)
+        let (lo, hi) = (m.sqrt().next_down(), m.sqrt().next_up());
+        assert_eq!(decide::<f32>(lo, hi), None);
+        // nonsense intervals decide nothing
+        assert_eq!(decide::<f32>(f64::NAN, 1.0), None);
+        assert_eq!(decide::<f64>(2.0, 1.0), None);
+        // beyond f32's range: +inf is the correctly rounded square
+        assert_eq!(decide::<f32>(1e30, 1e30f64.next_up()), Some(f32::INFINITY));
+    }
+}
