@@ -21,6 +21,7 @@ use crate::plot::{Mark, Plot, Series};
 use crate::table::{self, TRow};
 
 mod readme;
+mod rounded;
 use readme::update_readme;
 
 /// Report settings.
@@ -607,6 +608,7 @@ fn accuracy_md(s: &Settings, seed: u64, m: &Measured) -> String {
             }
         }
     }
+    a.push_str(&rounded::rounded_md(s.cases, seed));
     let _ = writeln!(a, "\n## Peers against the same oracle\n\nTriangle-triangle distance of the peers, judged on the same cases with the same metrics (distance only: the peers' points are not judged). parry3d / parry3d-f64 `query::distance` on two `Triangle` shapes (GJK), what a Rust user would pick; FCL's `TriangleDistance` (PQP's algorithm, float and double, header-only, built by `scenes/build.rs` with `-O3 -march=native` when `libfcl-dev` and `libeigen3-dev` are installed), what a C++ user would pick. Their distances are squared in the input precision before judging (at most half an ulp more). No bound applies: these are measurements. The last column is tridist's {} on the same cases.\n", best().name());
     for lib in Lib::ALL {
         if !lib.available() {

@@ -243,17 +243,18 @@ mod tests {
         bad.clear();
         let head = HEADER.join(",");
         bad.push_str(&head);
-        bad.push_str("\nw,q,i,f32,one,default,answer,quick,1,1,0,0,0,0,0,0,0,0\n");
+        bad.push_str("\nw,q,i,f32,one,default,answer,quick,1,1,0,0,0,0,0,0,0,0,0\n");
         std::fs::write(&p, &bad).unwrap();
         let e = read(&p).unwrap_err();
         assert!(e.contains(":2: threads"), "{e}");
-        std::fs::write(&p, format!("{head}\nw,q,i,f32,1,default,answer,slow,1,1,0,0,0,0,0,0,0,0\n")).unwrap();
+        std::fs::write(&p, format!("{head}\nw,q,i,f32,1,default,answer,slow,1,1,0,0,0,0,0,0,0,0,0\n"))
+            .unwrap();
         let e = read(&p).unwrap_err();
         assert!(e.contains(":2: stages \"slow\""), "{e}");
         // values `advise` would have used silently: an unknown precision (its rows were never
         // matched, the rate printed "?"), a rate that is not a measurement (NaN was printed and
         // ranked), no threads
-        let good = "w,q,i,f32,1,default,answer,quick,7,1,0,0,0,0,0,0,0,0";
+        let good = "w,q,i,f32,1,default,answer,quick,7,1,0,0,0,0,0,0,0,0,0";
         for (bad, says) in [
             (good.replace(",f32,", ",f33,"), ":3: precision \"f33\" is neither f32 nor f64"),
             (good.replace(",7,", ",NaN,"), ":3: queries_per_second \"NaN\" is not a positive finite number"),
@@ -268,6 +269,10 @@ mod tests {
         }
         std::fs::write(&p, format!("{head}\n{good}\n")).unwrap();
         assert_eq!(read(&p).unwrap().len(), 1);
+        // a file from before the `undecided` column reads as 0 undecided
+        let (old_head, old_row) = (HEADER[..HEADER.len() - 1].join(","), good.rsplit_once(',').unwrap().0);
+        std::fs::write(&p, format!("{old_head}\n{old_row}\n")).unwrap();
+        assert_eq!(read(&p).unwrap()[0].counts.undecided, 0);
     }
 
     /// The committed file parses with the csv crate, every row has every field, and its

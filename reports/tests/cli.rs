@@ -545,6 +545,11 @@ fn a_small_report_writes_parseable_files() {
         assert!(rows.iter().any(|x| &x[1] == q.name()), "{}", q.name());
     }
     assert!(rows.iter().all(|x| x.len() == 19 && x[8].parse::<f64>().unwrap() > 0.0));
+    // the correctly rounded mode judged per family: every certified answer RN(D*)
+    let acc = std::fs::read_to_string(dir.join("ACCURACY.md")).unwrap();
+    let cr_rows = section_rows(&acc, "## Correctly rounded answers");
+    assert!(cr_rows.len() >= 2 * tridist_scenes::Family::ALL.len() - 2, "{acc}");
+    assert!(cr_rows.iter().all(|c| c.len() == 11 && c[9] == "0"), "{cr_rows:?}");
     // the correctly rounded mode is measured in both precisions, its undecided pairs counted
     let cr: Vec<_> = rows.iter().filter(|x| &x[5] == "correctly-rounded").collect();
     assert!(
