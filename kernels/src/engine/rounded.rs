@@ -83,7 +83,7 @@ impl Engine {
             }
             if !open.is_empty() {
                 let second = tight.answers64(&job, query, &open);
-                counts.recertified += open.len() as u64;
+                counts.add(&PathCounts { pairs: 0, uncertified: 0, ..second.counts });
                 for (m, &i) in open.iter().enumerate() {
                     let lane = match rounded_lane(&job, i, &second, m, &mut counts) {
                         Ok(lane) => lane,

@@ -8,14 +8,13 @@ use tridist::{Outputs, Query, Tolerance};
 use tridist_scenes::eval::truth;
 use tridist_scenes::{Family, Float};
 
-/// One family and precision: pairs, decided by an f64 interval or proof, by a proof of
-/// contact, sent to the tight f64 pass, to the oracle, undecided, and certified but wrong.
+/// One family and precision: pairs, decided by a proof of contact, by the oracle, undecided,
+/// and certified but wrong.
 struct Row {
     family: Family,
     precision: &'static str,
     pairs: u64,
     contact: u64,
-    tight: u64,
     exact: u64,
     undecided: u64,
     wrong: u64,
@@ -43,7 +42,6 @@ fn row<T: Float>(family: Family, seed: u64, n: usize) -> Option<Row> {
         precision: T::NAME,
         pairs: c.pairs,
         contact: c.crossed,
-        tight: c.recertified,
         exact: c.exact,
         undecided: c.undecided,
         wrong,
@@ -55,20 +53,19 @@ pub(super) fn rounded_md(n: usize, seed: u64) -> String {
     let mut a = String::new();
     let _ = writeln!(
         a,
-        "\n## Correctly rounded answers\n\nTriangle-triangle distance under `Tolerance::CORRECTLY_ROUNDED` ({}, {n} cases per family and precision): every pair is answered in f64 (f32 input widened exactly) and decided when the squares of its certified interval round to one value; contacts by a proof (a shared point, or an edge crossing the other triangle's interior by orientation tests with a certified error bound); the rest once more in f64 at `Tolerance::EXACT`, then by the exact oracle (feature `exact`, not in this build) or left *undecided* (flagged per pair, `Outputs::certified`). **Not RN(D*)**: certified answers whose bits differ from the oracle's correctly rounded square (must be 0). Percent of the family's pairs; the time it costs: THROUGHPUT.md, \"The tolerance knob\".\n\n| family | prec | pairs | decided | by a proof of contact | tight f64 pass | exact | undecided | not RN(D*) |\n|---|---|---|---|---|---|---|---|---|",
+        "\n## Correctly rounded answers\n\nTriangle-triangle distance under `Tolerance::CORRECTLY_ROUNDED` ({}, {n} cases per family and precision): every pair is answered in f64 (f32 input widened exactly) and decided when the squares of its certified interval round to one value; contacts by a proof (a shared point, or an edge crossing the other triangle's interior by orientation tests with a certified error bound); the rest once more in f64 at `Tolerance::EXACT`, then by the exact oracle (feature `exact`, not in this build) or left *undecided* (flagged per pair, `Outputs::certified`). **Not RN(D*)**: certified answers whose bits differ from the oracle's correctly rounded square (must be 0). Percent of the family's pairs; the time it costs: THROUGHPUT.md, \"The tolerance knob\".\n\n| family | prec | pairs | decided | by a proof of contact | by the oracle | undecided | not RN(D*) |\n|---|---|---|---|---|---|---|---|",
         super::best().name()
     );
     for family in Family::ALL {
         for r in [row::<f32>(family, seed, n), row::<f64>(family, seed, n)].into_iter().flatten() {
             let _ = writeln!(
                 a,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} |",
                 r.family.name(),
                 r.precision,
                 r.pairs,
                 super::pct(r.pairs - r.undecided, r.pairs),
                 super::pct(r.contact, r.pairs),
-                super::pct(r.tight, r.pairs),
                 super::pct(r.exact, r.pairs),
                 super::pct(r.undecided, r.pairs),
                 if r.wrong == 0 { "0".to_string() } else { format!("**{}**", r.wrong) }
