@@ -64,13 +64,17 @@ pub enum Error {
     /// moved bounding box leaves the precision's range (a moved vertex could overflow).
     NonFiniteCoordinate,
     /// A setting the query does not offer: [`crate::Tolerance::CORRECTLY_ROUNDED`] for the
-    /// penalty method (an approximation) and the mesh queries.
+    /// penalty method (an approximation) and the closest point of a mesh.
     Unsupported {
         /// The query (`penalty`, `mesh_distance`, ...).
         query: &'static str,
         /// The setting.
         setting: &'static str,
     },
+    /// Under [`crate::Tolerance::CORRECTLY_ROUNDED`], a mesh query whose correctly rounded
+    /// answer needs a pair that neither its certified interval nor a proof decided: build with
+    /// the `exact` feature (the oracle decides every pair), or use another tolerance.
+    Undecided,
     /// A mesh index names no vertex.
     IndexOutOfRange {
         /// Triangle number.
@@ -121,6 +125,10 @@ impl core::fmt::Display for Error {
                 write!(f, "a coordinate is NaN or infinite (a query point, or a vertex moved out of range)")
             }
             Error::Unsupported { query, setting } => write!(f, "{query} does not offer {setting}"),
+            Error::Undecided => write!(
+                f,
+                "the correctly rounded answer needs the exact oracle (build with the `exact` feature)"
+            ),
             Error::IndexOutOfRange { triangle, index, vertices } => {
                 write!(f, "triangle {triangle} uses vertex index {index}, but there are {vertices} vertices")
             }

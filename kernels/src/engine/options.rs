@@ -127,8 +127,13 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 ///   primitives within the f64 answer's guarantee (or the oracle's exact points rounded), not
 ///   the same bits on every variant. Intervals are the f64 ones rounded outward.
 /// * Intersection verdicts ([`Query::Intersect`](crate::Query::Intersect)) are decided as under
-///   [`Tolerance::EXACT`]. The penalty method, an approximation, refuses the mode
-///   ([`Error::Unsupported`](crate::Error::Unsupported)), as do the mesh queries for now.
+///   [`Tolerance::EXACT`], and so are the mesh queries' decisions (contacts, clearance,
+///   intersection). [`Engine::mesh_distance`](crate::Engine::mesh_distance) returns the
+///   correctly rounded minimum over all triangle pairs, or
+///   [`Error::Undecided`](crate::Error::Undecided) when that needs the oracle. The penalty
+///   method, an approximation, refuses the mode
+///   ([`Error::Unsupported`](crate::Error::Unsupported)), as does the closest point of a mesh
+///   for now.
 ///
 /// The square root of `RN(D*)` is not always `RN(sqrt(D*))`: the mode rounds squares.
 #[derive(Clone, Copy, Debug, PartialEq)]

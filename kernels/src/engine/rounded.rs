@@ -40,8 +40,12 @@ pub(crate) fn decide<T: Real>(lo: f64, hi: f64) -> Option<T> {
     }
 }
 
-/// The f64 answers of some pairs: squared distances, closest points, intervals.
+/// The f64 answers of some pairs: squared distances, closest points (when asked for),
+/// intervals; and the widened input they were computed from.
+#[derive(Default)]
 struct Answers64 {
+    fa: Vec<f64>,
+    fb: Vec<f64>,
     d: Vec<f64>,
     p: Vec<Point<f64>>,
     q: Vec<Point<f64>>,
@@ -64,17 +68,20 @@ impl Engine {
         let loose = Engine { tol: Tolerance::DEFAULT, exact: false, ..*self };
         let tight = Engine { tol: Tolerance::EXACT, exact: false, ..*self };
         let mut counts = PathCounts::default();
+        let (mut first, mut second) = (Answers64::default(), Answers64::default());
+        let (mut ids, mut open) = (Vec::new(), Vec::new());
         let mut start = 0;
         while start < job.n {
             let end = (start + BLOCK).min(job.n);
-            let ids: Vec<usize> = (start..end).collect();
-            let first = loose.answers64(&job, query, &ids);
+            ids.clear();
+            ids.extend(start..end);
+            loose.answers64(&job, query, &ids, &mut first);
             counts.add(&PathCounts { pairs: 0, uncertified: 0, ..first.counts });
             counts.pairs += ids.len() as u64;
             if T::PRECISION == Precision::F32 {
                 counts.widened += ids.len() as u64;
             }
-            let mut open = Vec::new();
+            open.clear();
             for (m, &i) in ids.iter().enumerate() {
                 match rounded_lane(&job, i, &first, m, &mut counts) {
                     Ok(lane) => put(&mut job, i, lane),
@@ -82,7 +89,7 @@ impl Engine {
                 }
             }
             if !open.is_empty() {
-                let second = tight.answers64(&job, query, &open);
+                tight.answers64(&job, query, &open, &mut second);
                 counts.add(&PathCounts { pairs: 0, uncertified: 0, ..second.counts });
                 for (m, &i) in open.iter().enumerate() {
                     let lane = match rounded_lane(&job, i, &second, m, &mut counts) {
@@ -107,38 +114,29 @@ impl Engine {
         counts
     }
 
-    /// The f64 answers of pairs `ids` of `job` to `query` on this engine (its tolerance).
-    fn answers64<T: Real>(&self, job: &Job<'_, T>, query: Query, ids: &[usize]) -> Answers64 {
+    /// The f64 answers of pairs `ids` of `job` to `query` on this engine (its tolerance), into
+    /// `r` (its buffers reused from block to block); closest points only when `job` writes them.
+    fn answers64<T: Real>(&self, job: &Job<'_, T>, query: Query, ids: &[usize], r: &mut Answers64) {
         let (ka, kb) = (job.a.k(), job.b.k());
         let n = ids.len();
-        let widen = |s: &Src<'_, T>, k: usize| -> Vec<f64> {
-            let mut v = Vec::with_capacity(n * 3 * k);
-            for &i in ids {
-                for j in 0..3 * k {
-                    v.push(s.at(i, j).to_f64());
-                }
-            }
-            v
-        };
-        let (fa, fb) = (widen(&job.a, ka), widen(&job.b, kb));
-        let mut r = Answers64 {
-            d: vec![0.0; n],
-            p: vec![[0.0; 3]; n],
-            q: vec![[0.0; 3]; n],
-            iv: vec![Interval::default(); n],
-            counts: PathCounts::default(),
-        };
+        widen_into(&job.a, ka, ids, &mut r.fa);
+        widen_into(&job.b, kb, ids, &mut r.fb);
+        r.d.resize(n, 0.0);
+        r.iv.resize(n, Interval::default());
+        let points = job.sink.cp.is_some() || job.sink.p.is_some() || job.sink.q.is_some();
+        r.p.resize(if points { n } else { 0 }, [0.0; 3]);
+        r.q.resize(if points { n } else { 0 }, [0.0; 3]);
         let sub = Job {
             query,
-            a: Src::Aos { flat: &fa, k: ka },
-            b: Src::Aos { flat: &fb, k: kb },
+            a: Src::Aos { flat: &r.fa, k: ka },
+            b: Src::Aos { flat: &r.fb, k: kb },
             n,
             prm: self.params::<f64>(),
             sink: Sink {
-                d: Some(&mut r.d),
-                p: Some(&mut r.p),
-                q: Some(&mut r.q),
-                iv: Some(&mut r.iv),
+                d: Some(&mut r.d[..n]),
+                p: if points { Some(&mut r.p[..n]) } else { None },
+                q: if points { Some(&mut r.q[..n]) } else { None },
+                iv: Some(&mut r.iv[..n]),
                 ..Sink::default()
             },
             counts: PathCounts::default(),
@@ -146,7 +144,6 @@ impl Engine {
             exact: false,
         };
         r.counts = self.exec(sub);
-        r
     }
 }
 
@@ -187,7 +184,10 @@ fn rounded_lane<T: Real>(
         }
     };
     let lo = if lo < T::ZERO { T::ZERO } else { lo };
-    let lane = Lane { d: cv(d), p: r.p[m].map(cv), q: r.q[m].map(cv), lo, hi, ok: true, it: 0 };
+    // (closest points only when the job writes them)
+    let (p, q) =
+        (r.p.get(m).map_or([T::ZERO; 3], |x| x.map(cv)), r.q.get(m).map_or([T::ZERO; 3], |x| x.map(cv)));
+    let lane = Lane { d: cv(d), p, q, lo, hi, ok: true, it: 0 };
     if d.is_nan() {
         // non-finite input: NaN, as in every mode
         return Ok(Lane { ok: false, ..lane });
@@ -211,7 +211,37 @@ fn rounded_lane<T: Real>(
 /// Primitive `i` of `s` in f64 (exact; points beyond its arity repeat the first).
 fn prim64<T: Real>(s: &Src<'_, T>, i: usize) -> [[f64; 3]; 3] {
     let k = s.k();
-    [0, 1, 2].map(|v| [0, 1, 2].map(|c| s.at(i, 3 * (if v < k { v } else { 0 }) + c).to_f64()))
+    let mut out = [[0.0; 3]; 3];
+    for (v, p) in out.iter_mut().enumerate() {
+        let at = 3 * if v < k { v } else { 0 };
+        for (c, x) in p.iter_mut().enumerate() {
+            *x = s.at(i, at + c).to_f64();
+        }
+    }
+    out
+}
+
+/// Appends the coordinates of primitives `ids` of `s` (`k` points each) to `out`, in f64.
+fn widen_into<T: Real>(s: &Src<'_, T>, k: usize, ids: &[usize], out: &mut Vec<f64>) {
+    out.clear();
+    out.reserve(ids.len() * 3 * k);
+    match *s {
+        Src::Aos { flat, .. } => {
+            for &i in ids {
+                out.extend(flat[i * 3 * k..(i + 1) * 3 * k].iter().map(|x| x.to_f64()));
+            }
+        }
+        Src::One { flat, .. } => {
+            for _ in ids {
+                out.extend(flat[..3 * k].iter().map(|x| x.to_f64()));
+            }
+        }
+        Src::Soa { .. } => {
+            for &i in ids {
+                out.extend((0..3 * k).map(|j| s.at(i, j).to_f64()));
+            }
+        }
+    }
 }
 
 /// The sign of `det[a - d, b - d, c - d]` (positive: `d` below the plane of `a, b, c` seen
@@ -243,26 +273,37 @@ fn orient3d(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> Option<i8
     }
 }
 
-/// Does segment `p q` provably cross the interior of triangle `t` (its ends strictly on either
-/// side of the plane, its line strictly inside the three edges)?
-fn pierces(p: &[f64; 3], q: &[f64; 3], t: &[[f64; 3]; 3]) -> bool {
-    let side = |x| orient3d(&t[0], &t[1], &t[2], x);
-    let (Some(sp), Some(sq)) = (side(p), side(q)) else { return false };
-    if sp == sq {
-        return false;
-    }
-    let e = |i: usize| orient3d(p, q, &t[i], &t[(i + 1) % 3]);
-    match (e(0), e(1), e(2)) {
-        (Some(x), Some(y), Some(z)) => x == y && y == z,
-        _ => false,
-    }
+/// The proven sides of `t`'s three vertices relative to the plane of `u` (`None`: not proven).
+fn sides(u: &[[f64; 3]; 3], t: &[[f64; 3]; 3]) -> [Option<i8>; 3] {
+    t.map(|x| orient3d(&u[0], &u[1], &u[2], &x))
+}
+
+/// Does an edge of `t` provably cross the interior of triangle `u` (its ends strictly on
+/// either side of `u`'s plane, `side` their proven sides, its line strictly inside `u`'s three
+/// edges)?
+fn pierces(t: &[[f64; 3]; 3], side: &[Option<i8>; 3], u: &[[f64; 3]; 3]) -> bool {
+    (0..3).any(|i| {
+        let j = (i + 1) % 3;
+        let (Some(sp), Some(sq)) = (side[i], side[j]) else { return false };
+        if sp == sq {
+            return false;
+        }
+        let (p, q) = (&t[i], &t[j]);
+        let e0 = orient3d(p, q, &u[0], &u[1]);
+        e0.is_some() && e0 == orient3d(p, q, &u[1], &u[2]) && e0 == orient3d(p, q, &u[2], &u[0])
+    })
 }
 
 /// Do two triangles provably intersect: an edge of one crossing the other's interior? (Every
 /// pair of intersecting triangles in general position has one; a touching or coplanar pair is
 /// left to the oracle.) Then the distance is exactly 0.
 fn crossing(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> bool {
-    (0..3).any(|i| pierces(&a[i], &a[(i + 1) % 3], b) || pierces(&b[i], &b[(i + 1) % 3], a))
+    let sb = sides(a, b);
+    // b strictly on one side of a's plane: no edge crosses (and the triangles do not meet)
+    if sb.iter().all(|x| *x == Some(1)) || sb.iter().all(|x| *x == Some(-1)) {
+        return false;
+    }
+    pierces(b, &sb, a) || pierces(a, &sides(b, a), b)
 }
 
 /// The exact oracle's answer for pair `i` (feature `exact`, when the engine uses it).

@@ -41,9 +41,18 @@ impl Engine {
     ///
     /// # Errors
     /// [`Error::InvalidPose`] for a non-finite pose, [`Error::NonFiniteCoordinate`] when a
-    /// moved coordinate overflows, [`Error::Unsupported`] under
-    /// [`crate::Tolerance::CORRECTLY_ROUNDED`] (not offered for meshes yet; the decisions of
-    /// the other mesh queries run under it as under [`crate::Tolerance::EXACT`]).
+    /// moved coordinate overflows; under [`crate::Tolerance::CORRECTLY_ROUNDED`],
+    /// [`Error::Undecided`] when a pair that may hold the minimum could not be decided without
+    /// the exact oracle (see "Correctly rounded" below).
+    ///
+    /// # Correctly rounded
+    /// Under [`crate::Tolerance::CORRECTLY_ROUNDED`] `sqdist` is the smallest exact squared
+    /// distance over all triangle pairs of the moved meshes ([`Mesh::triangle_at`]), rounded to
+    /// nearest in `T`, and the pair named is the first in triangle order whose correctly rounded
+    /// square is that value: every pair whose exact distance can be the minimum is answered by
+    /// the correctly rounded triangle query. It costs a contact query around the minimum after
+    /// the distance search. The decisions of the other mesh queries run under it as under
+    /// [`crate::Tolerance::EXACT`].
     pub fn mesh_distance<T: Real>(
         &self,
         a: &Mesh<T>,
@@ -52,12 +61,77 @@ impl Engine {
         pose_b: &Pose<T>,
     ) -> Result<Option<MeshDistance<T>>, Error> {
         if self.current_tolerance().correctly_rounded {
-            return Err(Error::Unsupported { query: "mesh_distance", setting: "correctly rounded answers" });
+            return self.mesh_distance_rounded(a, pose_a, b, pose_b);
         }
         let mut s = Nearest::new(self.current_tolerance());
         s.widen_after = Engine::MESH_DISTANCE_WIDEN_AFTER.max(a.len() + b.len());
         search(self, a, pose_a, b, pose_b, &mut s)?;
         Ok(s.best)
+    }
+
+    /// [`Engine::mesh_distance`] under [`crate::Tolerance::CORRECTLY_ROUNDED`]: the smallest
+    /// exact squared distance over all triangle pairs, rounded to nearest. The search at the
+    /// default tolerance bounds it from above; every pair whose answer falls within that bound
+    /// plus twice the default tolerance's width (`2 x 64 u S`, so every pair whose exact distance
+    /// can be the minimum) is answered by the correctly rounded triangle query, and the minimum
+    /// of their rounded squares is the rounded minimum (rounding is monotonic). The pair
+    /// reported is the first in triangle order whose rounded square is that minimum.
+    fn mesh_distance_rounded<T: Real>(
+        &self,
+        a: &Mesh<T>,
+        pose_a: &Pose<T>,
+        b: &Mesh<T>,
+        pose_b: &Pose<T>,
+    ) -> Result<Option<MeshDistance<T>>, Error> {
+        let plain = self.tolerance(crate::Tolerance::DEFAULT)?;
+        let Some(first) = plain.mesh_distance(a, pose_a, b, pose_b)? else { return Ok(None) };
+        // S: the largest moved coordinate of both meshes (their root boxes)
+        let s = [a.moved_box(0, &Moved::of(pose_a)), b.moved_box(0, &Moved::of(pose_b))]
+            .iter()
+            .flat_map(|(lo, hi)| lo.iter().chain(hi.iter()))
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        let w = 2.0 * crate::Tolerance::DEFAULT.scaled * T::UNIT_ROUNDOFF.to_f64() * s;
+        let reach = first.sqdist.to_f64().sqrt() * (1.0 + 4.0 * T::UNIT_ROUNDOFF.to_f64()) + w;
+        let near = plain.mesh_contacts(a, pose_a, b, pose_b, T::from_f64(reach), None)?;
+        let tri = |m: &Mesh<T>, i: usize, p: &Pose<T>| m.triangle_at(i, p).ok_or(Error::NonFiniteCoordinate);
+        let ta = near.iter().map(|c| tri(a, c.tri_a, pose_a)).collect::<Result<Vec<_>, _>>()?;
+        let tb = near.iter().map(|c| tri(b, c.tri_b, pose_b)).collect::<Result<Vec<_>, _>>()?;
+        let mut cp = vec![ClosestPoints::default(); near.len()];
+        let mut ok = vec![false; near.len()];
+        let mut iv = vec![crate::Interval::default(); near.len()];
+        self.run(
+            crate::Query::TriTri,
+            &ta[..],
+            &tb[..],
+            crate::Outputs::new().closest_points(&mut cp).certified(&mut ok).intervals(&mut iv),
+        )?;
+        let mut best: Option<(usize, T)> = None;
+        for (k, c) in cp.iter().enumerate() {
+            check_finite(c.sqdist)?;
+            let better = match best {
+                None => true,
+                Some((j, d)) => {
+                    c.sqdist < d
+                        || (c.sqdist == d && (near[k].tri_a, near[k].tri_b) < (near[j].tri_a, near[j].tri_b))
+                }
+            };
+            if better {
+                best = Some((k, c.sqdist));
+            }
+        }
+        let Some((k, d)) = best else { return Ok(Some(first)) };
+        // an undecided pair whose square may round to the minimum or below leaves it undecided
+        let at_most = d.to_f64() * (1.0 + 4.0 * T::UNIT_ROUNDOFF.to_f64());
+        if (0..near.len()).any(|j| !ok[j] && iv[j].lo.to_f64() * iv[j].lo.to_f64() <= at_most) {
+            return Err(Error::Undecided);
+        }
+        Ok(Some(MeshDistance {
+            sqdist: d,
+            p: cp[k].p,
+            q: cp[k].q,
+            tri_a: near[k].tri_a,
+            tri_b: near[k].tri_b,
+        }))
     }
 
     /// Every triangle pair of two meshes in their poses whose distance is at most `margin`
