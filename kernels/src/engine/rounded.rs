@@ -58,10 +58,11 @@ impl Engine {
     /// validated; its `prm` holds the margin of [`Query::Within`].
     ///
     /// Per block: every pair in f64 at the default tolerance (the cheapest certified pass);
-    /// the pairs its interval does not decide (nor a proof of contact) once more in f64 at
-    /// [`Tolerance::EXACT`], whose accurate stages give the tightest intervals the precision
-    /// can certify (pairs far closer than their size, where the first interval is too wide
-    /// for one rounding cell of the square); what is left to the exact oracle, or undecided.
+    /// for f32 input, the pairs its interval does not decide (nor a proof of contact) once
+    /// more in f64 at [`Tolerance::EXACT`], whose accurate stages give the tightest intervals
+    /// the precision can certify (pairs far closer than their size, where the first interval
+    /// is too wide for one rounding cell of the square); what is left to the exact oracle, or
+    /// undecided.
     pub(super) fn run_rounded<T: Real>(&self, mut job: Job<'_, T>) -> PathCounts {
         // Within-margin is triangle-triangle distance, thresholded on the rounded square.
         let query = if job.query == Query::Within { Query::TriTri } else { job.query };
@@ -85,29 +86,40 @@ impl Engine {
             for (m, &i) in ids.iter().enumerate() {
                 match rounded_lane(&job, i, &first, m, &mut counts) {
                     Ok(lane) => put(&mut job, i, lane),
-                    Err(_) => open.push(i),
+                    Err(lane) => open.push((i, lane)),
                 }
             }
-            if !open.is_empty() {
-                tight.answers64(&job, query, &open, &mut second);
+            // The tight pass decides f32 input only: an f64 interval, however tight, is wider
+            // than one rounding cell of an f64 square unless it is exact (measured: it decided
+            // none of the f64 pairs the first pass left, at the cost of the accurate stages on
+            // all of them).
+            if T::PRECISION == Precision::F32 && !open.is_empty() {
+                ids.clear();
+                ids.extend(open.iter().map(|x| x.0));
+                tight.answers64(&job, query, &ids, &mut second);
                 counts.add(&PathCounts { pairs: 0, uncertified: 0, ..second.counts });
-                for (m, &i) in open.iter().enumerate() {
-                    let lane = match rounded_lane(&job, i, &second, m, &mut counts) {
-                        Ok(lane) => lane,
-                        Err(lane) => match exact_lane(self, &job, i) {
-                            Some(x) => {
-                                counts.exact += 1;
-                                x
-                            }
-                            None => {
-                                counts.undecided += 1;
-                                counts.uncertified += 1;
-                                lane
-                            }
-                        },
-                    };
-                    put(&mut job, i, lane);
+                let mut still = Vec::new();
+                for (m, &(i, _)) in open.iter().enumerate() {
+                    match rounded_lane(&job, i, &second, m, &mut counts) {
+                        Ok(lane) => put(&mut job, i, lane),
+                        Err(lane) => still.push((i, lane)),
+                    }
                 }
+                open = still;
+            }
+            for (i, lane) in open.drain(..) {
+                let lane = match exact_lane(self, &job, i) {
+                    Some(x) => {
+                        counts.exact += 1;
+                        x
+                    }
+                    None => {
+                        counts.undecided += 1;
+                        counts.uncertified += 1;
+                        lane
+                    }
+                };
+                put(&mut job, i, lane);
             }
             start = end;
         }
