@@ -167,13 +167,22 @@ pub fn allowed_misclassified(b: &Bound, n: usize) -> usize {
 /// Rows of fewer cases are judged by their maxima only.
 pub const MIN_FOR_PERCENTILES: usize = 100;
 
+/// Rows of fewer cases are not judged on their p99: below it fewer than three cases lie above
+/// the 99th percentile, and the p99 of a heavy tail (the penalty method's) is then one of
+/// the two largest errors, not an estimate comparable with the measured one (300 and 30,000
+/// cases). Measured: the report's quick run (150 cases per family, its own seed) put the
+/// penalty method's degenerate f32 p99 at 2.25e6 against 3.24e5 measured at 300 and 30,000,
+/// with its maximum and median within their bounds.
+pub const MIN_FOR_P99: usize = 300;
+
 /// Does a measured row meet its bound? Non-finite output for finite input, an interval that
 /// misses the exact distance or the answer, or a misjudged verdict never does. Written so
 /// that NaN figures fail.
 pub fn meets(s: &crate::eval::Stats, b: &Bound) -> bool {
     let misclassified = s.contact_misses + s.false_zeros;
     // Percentiles are meaningful over a family sample, not over a single fuzz input.
-    let percentiles = s.n < MIN_FOR_PERCENTILES || (s.p99 <= b.p99 && s.median <= b.median);
+    let percentiles =
+        s.n < MIN_FOR_PERCENTILES || ((s.n < MIN_FOR_P99 || s.p99 <= b.p99) && s.median <= b.median);
     s.max_excess <= b.max_excess
         && percentiles
         && s.max_point_error <= b.max_point_error
@@ -264,6 +273,27 @@ pub fn violations_judged<T: Float>(
 mod tests {
     use super::*;
     use crate::eval::Stats;
+
+    /// p99 is judged from `MIN_FOR_P99` cases (at least three above it), the median from
+    /// `MIN_FOR_PERCENTILES`, the maximum always.
+    #[test]
+    fn percentiles_are_judged_from_samples_that_can_estimate_them() {
+        let b = bound(Query::Penalty, Variant::Scalar, "f32", Family::Degenerate);
+        let ok = Stats {
+            n: MIN_FOR_P99,
+            max_excess: b.max_excess,
+            p99: b.p99,
+            median: b.median,
+            ..Stats::default()
+        };
+        assert!(meets(&ok, &b));
+        let high_p99 = Stats { p99: b.p99 * 7.0, ..ok.clone() };
+        assert!(!meets(&high_p99, &b), "a p99 over its bound at {MIN_FOR_P99} cases passes");
+        assert!(meets(&Stats { n: 150, ..high_p99.clone() }, &b), "p99 judged at 150 cases");
+        let high_median = Stats { n: 150, median: b.median * 2.0, ..ok.clone() };
+        assert!(!meets(&high_median, &b), "the median is not judged at 150 cases");
+        assert!(!meets(&Stats { n: 10, max_excess: b.max_excess * 2.0, ..ok.clone() }, &b));
+    }
 
     /// The penalty rows bound the maximum by the measurement, not by feasibility: a row whose
     /// maximum is half again what was measured fails, on every family and precision, though
