@@ -648,6 +648,10 @@ fn bench_as<T: peer::Peer>(text: &str, a: &BenchArgs) -> Result<ExitCode, Fail> 
         "paths of one pass: prefiltered {}, delegated {}, refined {}, recertified {}, compacted {}, widened to f64 {}, exact {}, uncertified {}",
         c.prefiltered, c.delegated, c.refined, c.recertified, c.compacted, c.widened, c.exact, c.uncertified
     );
+    if e.current_tolerance().correctly_rounded {
+        // the correctly rounded mode's own paths
+        outln!("correctly rounded: {} decided by a proof of contact, {} undecided", c.crossed, c.undecided);
+    }
     Ok(ExitCode::SUCCESS)
 }
 

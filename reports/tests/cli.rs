@@ -85,6 +85,29 @@ fn every_kernel_runs_from_eval_and_agrees_with_the_oracle() {
     assert!(out.contains("pierce intersecting") && out.contains("far disjoint"), "{out}");
 }
 
+/// `bench --tolerance correctly-rounded` times the mode and says how its pairs were decided.
+#[test]
+fn bench_in_the_correctly_rounded_mode_reports_its_paths() {
+    let dir = tmp("bench-cr");
+    let input = dir.join("pairs.txt");
+    std::fs::write(&input, mixed_pairs()).unwrap();
+    let (code, out, err) = tridist(
+        &[
+            "bench",
+            "--input",
+            input.to_str().unwrap(),
+            "--precision",
+            "f32",
+            "--tolerance",
+            "correctly-rounded",
+        ],
+        "",
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("queries/s") && out.contains("correctly rounded: "), "{out}");
+    assert!(out.contains(", 0 undecided"), "{out}");
+}
+
 /// `--tolerance correctly-rounded`: every line the oracle's correctly rounded square, or
 /// marked `undecided` (f64 input without the `exact` feature, mostly).
 #[test]
