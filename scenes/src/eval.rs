@@ -387,6 +387,15 @@ pub fn exact_d2(a: &[tridist_oracle::P3], b: &[tridist_oracle::P3]) -> Rational 
     }
 }
 
+/// `RN(D*)`: an exact squared distance rounded to nearest (ties to even) in `T`, what
+/// [`tridist::Tolerance::CORRECTLY_ROUNDED`] must return.
+pub fn rn<T: Float>(d2: &Rational) -> T {
+    match T::PRECISION {
+        tridist::Precision::F32 => T::from_f64(tridist_oracle::round::to_f32(d2) as f64),
+        tridist::Precision::F64 => T::from_f64(tridist_oracle::round::to_f64(d2)),
+    }
+}
+
 /// Computes the exact answers for `cases` under `query`.
 pub fn truth<T: Float>(query: Query, cases: &[Case<T>]) -> Vec<Truth> {
     cases

@@ -404,10 +404,7 @@ fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance, judge: Judge) -> Verdict {
             // correctly rounded: a certified answer is RN(D*) bit for bit (its interval may be
             // as wide as the stage that decided it left it)
             if tol.correctly_rounded {
-                let rn = match T::PRECISION {
-                    tridist::Precision::F32 => T::from_f64(tridist_oracle::round::to_f32(&d2) as f64),
-                    tridist::Precision::F64 => T::from_f64(tridist_oracle::round::to_f64(&d2)),
-                };
+                let rn: T = crate::eval::rn(&d2);
                 if certified && o.d[0].to_bits_u64() != rn.to_bits_u64() {
                     return Err(format!(
                         "correctly rounded mode answered {:e}, RN(D*) is {:e}: {}",

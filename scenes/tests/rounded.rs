@@ -1,50 +1,19 @@
 //! The correctly rounded mode ([`Tolerance::CORRECTLY_ROUNDED`]) against the oracle: every
 //! squared distance a batch returns is `RN(D*)` bit for bit, on every family, variant and
 //! precision, except the pairs the batch itself reports undecided (flagged uncertified per
-//! pair, counted in [`PathCounts`]'s `undecided`: without the `exact` feature, which this
+//! pair, counted in `PathCounts::undecided`: without the `exact` feature, which this
 //! build of the harness lacks); and the answers are the same bits on every variant, thread
-//! count and layout. `kernels/tests/rounded.rs`
-//! runs the same judgement with the exact oracle behind the batch, where nothing is undecided.
+//! count and layout. `kernels/tests/rounded.rs` runs the same judgement with the exact oracle
+//! behind the batch, where nothing is undecided.
 
-use tridist::{Engine, Outputs, PathCounts, Point, Query, Tolerance};
-use tridist_oracle::round;
-use tridist_scenes::eval::{prims, truth, Variant};
-use tridist_scenes::{Case, Family, Float};
-
-/// The oracle's `RN(D*)` in `T`.
-fn rn<T: Float>(d2: &rug::Rational) -> T {
-    match T::PRECISION {
-        tridist::Precision::F32 => T::from_f64(round::to_f32(d2) as f64),
-        tridist::Precision::F64 => T::from_f64(round::to_f64(d2)),
-    }
-}
+use tridist::{Query, Tolerance};
+use tridist_scenes::eval::{prims, rn, run_with, truth, Variant};
+use tridist_scenes::{Family, Float};
 
 /// The largest fraction of f32 pairs left undecided without the oracle, per query (measured
 /// with 200 cases per family: triangle-triangle 3.3 %, segment-segment 1.6 %, point-triangle
 /// 0.3 %).
 const MAX_UNDECIDED_F32: f64 = 0.04;
-
-/// Runs `query` on `cases` under the mode: (squared distances, certified flags, counts).
-fn run<T: Float>(e: &Engine, query: Query, cases: &[Case<T>]) -> (Vec<T>, Vec<bool>, PathCounts) {
-    let n = cases.len();
-    let (mut d, mut ok) = (vec![T::ZERO; n], vec![false; n]);
-    let (pa, pb): (Vec<_>, Vec<_>) = cases.iter().map(|c| prims(query, c)).unzip();
-    let out = Outputs::new().sqdist(&mut d).certified(&mut ok);
-    let c = match query.arity() {
-        (2, 2) => {
-            let a: Vec<[Point<T>; 2]> = pa.iter().map(|t| [t[0], t[1]]).collect();
-            let b: Vec<[Point<T>; 2]> = pb.iter().map(|t| [t[0], t[1]]).collect();
-            e.run(query, &a, &b, out)
-        }
-        (1, 3) => {
-            let a: Vec<[Point<T>; 1]> = pa.iter().map(|t| [t[0]]).collect();
-            e.run(query, &a, &pb, out)
-        }
-        _ => e.run(query, &pa, &pb, out),
-    }
-    .unwrap_or_else(|err| panic!("{} {}: {err}", query.name(), T::NAME));
-    (d, ok, c)
-}
 
 /// Judges one precision; returns (pairs judged, undecided) over every family and variant.
 fn judge<T: Float>(query: Query, n: usize, failures: &mut Vec<String>) -> (u64, u64) {
@@ -57,7 +26,9 @@ fn judge<T: Float>(query: Query, n: usize, failures: &mut Vec<String>) -> (u64, 
         for v in Variant::ALL {
             let Some(e) = v.engine_or_skip() else { continue };
             let e = e.tolerance(Tolerance::CORRECTLY_ROUNDED).expect("a valid tolerance");
-            let (d, ok, c) = run(&e, query, &cases);
+            let o = run_with(e, query, v, &cases, None)
+                .unwrap_or_else(|err| panic!("{} {} {}: {err}", query.name(), v.name(), T::NAME));
+            let (d, ok, c) = (o.d, o.certified, o.counts);
             judged += cases.len() as u64;
             undecided += c.undecided;
             // the flags and the count agree

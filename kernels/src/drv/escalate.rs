@@ -94,27 +94,11 @@ pub(super) fn rerun<T: Real, W: Real, Tk: Entries>(
     let cv = |x: W| T::from_f64(x.to_f64());
     let cv3 = |x: Point<W>| x.map(cv);
     for (m, &i) in ids.iter().enumerate() {
-        // Outward rounding of the interval when narrowing.
-        let lo = {
-            let l = cv(iv[m].lo);
-            if l.to_f64() > iv[m].lo.to_f64() {
-                l.step(false)
-            } else {
-                l
-            }
-        };
-        let hi = {
-            let h = cv(iv[m].hi);
-            if h.to_f64() < iv[m].hi.to_f64() {
-                h.step(true)
-            } else {
-                h
-            }
-        };
+        let (lo, hi) = outward::<T, W>(iv[m]);
         let lane = post(
             job.query,
             job.prm.margin,
-            Lane { d: cv(d[m]), p: cv3(p[m]), q: cv3(q[m]), lo: lo.max_f(T::ZERO), hi, ok: ok[m], it: 0 },
+            Lane { d: cv(d[m]), p: cv3(p[m]), q: cv3(q[m]), lo, hi, ok: ok[m], it: 0 },
         );
         job.sink.put(i as usize, &lane);
         if !lane.ok {
@@ -123,9 +107,18 @@ pub(super) fn rerun<T: Real, W: Real, Tk: Entries>(
     }
 }
 
+/// An interval of precision `W` narrowed to `T`, rounded outward (its lower end at least 0).
+pub(crate) fn outward<T: Real, W: Real>(iv: Interval<W>) -> (T, T) {
+    let l = T::from_f64(iv.lo.to_f64());
+    let lo = if l.to_f64() > iv.lo.to_f64() { l.step(false) } else { l };
+    let h = T::from_f64(iv.hi.to_f64());
+    let hi = if h.to_f64() < iv.hi.to_f64() { h.step(true) } else { h };
+    (lo.max_f(T::ZERO), hi)
+}
+
 /// Query-specific post-processing of a full distance answer: within-margin keeps it only
 /// when within the margin (`+inf` beyond).
-pub(super) fn post<T: Real>(query: Query, margin: T, mut lane: Lane<T>) -> Lane<T> {
+pub(crate) fn post<T: Real>(query: Query, margin: T, mut lane: Lane<T>) -> Lane<T> {
     if query == Query::Within && lane.d > margin * margin {
         lane.d = T::INFINITY;
     }

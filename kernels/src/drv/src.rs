@@ -3,7 +3,6 @@
 
 use crate::lanes::{GatherIx, Lanes, MAX_LANES, V3};
 use crate::real::Real;
-#[cfg(feature = "exact")]
 use crate::types::Point;
 
 /// Where one side's primitives come from (K points each). Crate-private plumbing.
@@ -52,7 +51,6 @@ impl<'a, T: Real> Src<'a, T> {
     }
 
     /// Primitive `i` as points (unused slots repeat the first point).
-    #[cfg(feature = "exact")]
     pub(crate) fn prim(&self, i: usize) -> [Point<T>; 3] {
         let mut out = [[T::ZERO; 3]; 3];
         for v in 0..3 {

@@ -12,7 +12,7 @@
 //! passed off as correctly rounded.
 
 use super::{Engine, Tolerance};
-use crate::drv::{Job, Lane, Sink, Src};
+use crate::drv::{outward, post, Job, Lane, Sink, Src};
 use crate::query::Query;
 use crate::real::{Precision, Real};
 use crate::types::{Interval, PathCounts, Point};
@@ -22,7 +22,7 @@ const BLOCK: usize = 8192;
 
 /// The value of `T` that every square in `[lo^2, hi^2]` rounds to (to nearest), when there is
 /// one: `lo <= hi` bound a distance (f64, non-negative, certified).
-pub(crate) fn decide<T: Real>(lo: f64, hi: f64) -> Option<T> {
+fn decide<T: Real>(lo: f64, hi: f64) -> Option<T> {
     if !(lo >= 0.0 && lo <= hi) {
         return None;
     }
@@ -161,9 +161,7 @@ impl Engine {
 
 /// Writes pair `i`'s answer (within-margin: `+inf` beyond the margin, on the rounded square).
 fn put<T: Real>(job: &mut Job<'_, T>, i: usize, lane: Lane<T>) {
-    let m = job.prm.margin;
-    let lane =
-        if job.query == Query::Within && lane.d > m * m { Lane { d: T::INFINITY, ..lane } } else { lane };
+    let lane = post(job.query, job.prm.margin, lane);
     job.sink.put(i, &lane);
 }
 
@@ -178,24 +176,7 @@ fn rounded_lane<T: Real>(
 ) -> Result<Lane<T>, Lane<T>> {
     let (d, iv) = (r.d[m], r.iv[m]);
     let cv = |x: f64| T::from_f64(x);
-    // the f64 interval, rounded outward to T
-    let lo = {
-        let l = cv(iv.lo);
-        if l.to_f64() > iv.lo {
-            l.step(false)
-        } else {
-            l
-        }
-    };
-    let hi = {
-        let h = cv(iv.hi);
-        if h.to_f64() < iv.hi {
-            h.step(true)
-        } else {
-            h
-        }
-    };
-    let lo = if lo < T::ZERO { T::ZERO } else { lo };
+    let (lo, hi) = outward::<T, f64>(iv);
     // (closest points only when the job writes them)
     let (p, q) =
         (r.p.get(m).map_or([T::ZERO; 3], |x| x.map(cv)), r.q.get(m).map_or([T::ZERO; 3], |x| x.map(cv)));
@@ -222,15 +203,7 @@ fn rounded_lane<T: Real>(
 
 /// Primitive `i` of `s` in f64 (exact; points beyond its arity repeat the first).
 fn prim64<T: Real>(s: &Src<'_, T>, i: usize) -> [[f64; 3]; 3] {
-    let k = s.k();
-    let mut out = [[0.0; 3]; 3];
-    for (v, p) in out.iter_mut().enumerate() {
-        let at = 3 * if v < k { v } else { 0 };
-        for (c, x) in p.iter_mut().enumerate() {
-            *x = s.at(i, at + c).to_f64();
-        }
-    }
-    out
+    s.prim(i).map(|p| p.map(|x| x.to_f64()))
 }
 
 /// Appends the coordinates of primitives `ids` of `s` (`k` points each) to `out`, in f64.

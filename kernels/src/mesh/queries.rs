@@ -43,7 +43,8 @@ impl Engine {
     /// [`Error::InvalidPose`] for a non-finite pose, [`Error::NonFiniteCoordinate`] when a
     /// moved coordinate overflows; under [`crate::Tolerance::CORRECTLY_ROUNDED`],
     /// [`Error::Undecided`] when a pair that may hold the minimum could not be decided without
-    /// the exact oracle (see "Correctly rounded" below).
+    /// the exact oracle, or when the squared distance is near or beyond `T`'s range (see
+    /// "Correctly rounded" below).
     ///
     /// # Correctly rounded
     /// Under [`crate::Tolerance::CORRECTLY_ROUNDED`] `sqdist` is the smallest exact squared
@@ -92,10 +93,23 @@ impl Engine {
             .fold(0.0f64, |m, x| m.max(x.abs()));
         let w = 2.0 * crate::Tolerance::DEFAULT.scaled * T::UNIT_ROUNDOFF.to_f64() * s;
         let reach = first.sqdist.to_f64().sqrt() * (1.0 + 4.0 * T::UNIT_ROUNDOFF.to_f64()) + w;
-        let near = plain.mesh_contacts(a, pose_a, b, pose_b, T::from_f64(reach), None)?;
+        let reach = T::from_f64(reach);
+        if !reach.is_finite() {
+            // squares beyond T's range: no margin reaches them (mesh_contacts takes finite ones)
+            return Err(Error::Undecided);
+        }
+        // the candidates: the pairs within reach, and the default search's own pair
+        let mut near: Vec<(usize, usize)> = plain
+            .mesh_contacts(a, pose_a, b, pose_b, reach, None)?
+            .iter()
+            .map(|c| (c.tri_a, c.tri_b))
+            .collect();
+        if !near.contains(&(first.tri_a, first.tri_b)) {
+            near.push((first.tri_a, first.tri_b));
+        }
         let tri = |m: &Mesh<T>, i: usize, p: &Pose<T>| m.triangle_at(i, p).ok_or(Error::NonFiniteCoordinate);
-        let ta = near.iter().map(|c| tri(a, c.tri_a, pose_a)).collect::<Result<Vec<_>, _>>()?;
-        let tb = near.iter().map(|c| tri(b, c.tri_b, pose_b)).collect::<Result<Vec<_>, _>>()?;
+        let ta = near.iter().map(|c| tri(a, c.0, pose_a)).collect::<Result<Vec<_>, _>>()?;
+        let tb = near.iter().map(|c| tri(b, c.1, pose_b)).collect::<Result<Vec<_>, _>>()?;
         let mut cp = vec![ClosestPoints::default(); near.len()];
         let mut ok = vec![false; near.len()];
         let mut iv = vec![crate::Interval::default(); near.len()];
@@ -105,33 +119,27 @@ impl Engine {
             &tb[..],
             crate::Outputs::new().closest_points(&mut cp).certified(&mut ok).intervals(&mut iv),
         )?;
-        let mut best: Option<(usize, T)> = None;
-        for (k, c) in cp.iter().enumerate() {
+        for c in &cp {
             check_finite(c.sqdist)?;
-            let better = match best {
-                None => true,
-                Some((j, d)) => {
-                    c.sqdist < d
-                        || (c.sqdist == d && (near[k].tri_a, near[k].tri_b) < (near[j].tri_a, near[j].tri_b))
-                }
-            };
-            if better {
-                best = Some((k, c.sqdist));
-            }
         }
-        let Some((k, d)) = best else { return Ok(Some(first)) };
+        // the smallest rounded square, the first pair in triangle order among equals (`near`
+        // holds the default search's pair, so it is never empty)
+        let k = (0..near.len())
+            .min_by(|&x, &y| {
+                cp[x]
+                    .sqdist
+                    .partial_cmp(&cp[y].sqdist)
+                    .unwrap_or(core::cmp::Ordering::Equal)
+                    .then(near[x].cmp(&near[y]))
+            })
+            .ok_or(Error::Undecided)?;
+        let d = cp[k].sqdist;
         // an undecided pair whose square may round to the minimum or below leaves it undecided
         let at_most = d.to_f64() * (1.0 + 4.0 * T::UNIT_ROUNDOFF.to_f64());
         if (0..near.len()).any(|j| !ok[j] && iv[j].lo.to_f64() * iv[j].lo.to_f64() <= at_most) {
             return Err(Error::Undecided);
         }
-        Ok(Some(MeshDistance {
-            sqdist: d,
-            p: cp[k].p,
-            q: cp[k].q,
-            tri_a: near[k].tri_a,
-            tri_b: near[k].tri_b,
-        }))
+        Ok(Some(MeshDistance { sqdist: d, p: cp[k].p, q: cp[k].q, tri_a: near[k].0, tri_b: near[k].1 }))
     }
 
     /// Every triangle pair of two meshes in their poses whose distance is at most `margin`

@@ -4,8 +4,8 @@
 
 use std::fmt::Write;
 
-use tridist::{Outputs, Query, Tolerance};
-use tridist_scenes::eval::truth;
+use tridist::{Query, Tolerance};
+use tridist_scenes::eval::{rn, run_with, truth};
 use tridist_scenes::{Family, Float};
 
 /// One family and precision: pairs, decided by a proof of contact, by the oracle, undecided,
@@ -21,21 +21,14 @@ struct Row {
 }
 
 fn row<T: Float>(family: Family, seed: u64, n: usize) -> Option<Row> {
-    let e = super::best().engine().ok()?.tolerance(Tolerance::CORRECTLY_ROUNDED).ok()?;
+    let v = super::best();
+    let e = v.engine().ok()?.tolerance(Tolerance::CORRECTLY_ROUNDED).ok()?;
     let cases = tridist_scenes::families::generate::<T>(family, seed, n);
-    let a: Vec<_> = cases.iter().map(|c| c.a).collect();
-    let b: Vec<_> = cases.iter().map(|c| c.b).collect();
-    let (mut d, mut ok) = (vec![T::ZERO; n], vec![false; n]);
-    let c = e.run(Query::TriTri, &a, &b, Outputs::new().sqdist(&mut d).certified(&mut ok)).ok()?;
+    let o = run_with(e, Query::TriTri, v, &cases, None).ok()?;
+    let c = o.counts;
     let tr = truth(Query::TriTri, &cases);
     let wrong = (0..n)
-        .filter(|&i| {
-            let rn = match T::PRECISION {
-                tridist::Precision::F32 => tridist_oracle::round::to_f32(&tr[i].d2) as f64,
-                tridist::Precision::F64 => tridist_oracle::round::to_f64(&tr[i].d2),
-            };
-            ok[i] && d[i].to_f64().to_bits() != rn.to_bits()
-        })
+        .filter(|&i| o.certified[i] && o.d[i].to_bits_u64() != rn::<T>(&tr[i].d2).to_bits_u64())
         .count() as u64;
     Some(Row {
         family,
