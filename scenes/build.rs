@@ -4,6 +4,11 @@
 //! linked to libfcl; `cfg(tridist_fcl_mesh)`). Without them the project builds
 //! and tests as before and the reports say FCL was not measured (how to get it: Debian/Ubuntu
 //! `apt-get install libfcl-dev libeigen3-dev`; elsewhere set `FCL_INCLUDE` and `EIGEN_INCLUDE`).
+//!
+//! The Coal and TrueForm mesh peers (peer/coal_mesh.cpp, peer/trueform_mesh.cpp;
+//! `cfg(tridist_coal)`, `cfg(tridist_trueform)`) are built when their PyPI wheels are installed
+//! where `bash scenes/peer/install.sh` puts them (a virtual environment under
+//! `target/peers/venv`), or in the site-packages directory `TRIDIST_PEERS_SITE` names.
 
 use std::path::{Path, PathBuf};
 
@@ -18,10 +23,119 @@ fn main() {
     println!("cargo:rustc-check-cfg=cfg(tridist_fcl_mesh)");
     println!("cargo:rerun-if-changed=peer/fcl_shim.cpp");
     println!("cargo:rerun-if-changed=peer/fcl_mesh.cpp");
+    println!("cargo:rustc-check-cfg=cfg(tridist_coal)");
+    println!("cargo:rustc-check-cfg=cfg(tridist_trueform)");
+    println!("cargo:rerun-if-changed=peer/coal_mesh.cpp");
+    println!("cargo:rerun-if-changed=peer/trueform_mesh.cpp");
     println!("cargo:rerun-if-changed=build.rs");
     if std::env::var_os("CARGO_FEATURE_PEERS").is_none() {
         return;
     }
+    if let Some(site) = site_packages() {
+        coal(&site);
+        trueform(&site);
+    }
+    fcl();
+}
+
+/// The site-packages directory of the peers' virtual environment: `TRIDIST_PEERS_SITE`, or the
+/// one `scenes/peer/install.sh` makes under the workspace's `target/peers/venv`.
+fn site_packages() -> Option<PathBuf> {
+    println!("cargo:rerun-if-env-changed=TRIDIST_PEERS_SITE");
+    if let Some(s) = std::env::var_os("TRIDIST_PEERS_SITE") {
+        return Some(PathBuf::from(s));
+    }
+    let root = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR")?).parent()?.to_path_buf();
+    let lib = root.join("target/peers/venv/lib");
+    // (install.sh touches the shims' sources, which rebuilds them)
+    let mut found: Vec<PathBuf> = std::fs::read_dir(&lib)
+        .ok()?
+        .filter_map(|e| e.ok().map(|e| e.path().join("site-packages")))
+        .filter(|p| p.is_dir())
+        .collect();
+    found.sort();
+    found.pop()
+}
+
+/// The Coal mesh peer: Coal's headers and `libcoal.so` from the `coal` wheel (`cmeel.prefix`),
+/// Eigen's from `cmeel-eigen`, Boost's from `cmeel-boost`. Built as a shared object that
+/// `mesh_peer` loads at run time with its own symbols first (`RTLD_DEEPBIND`): libcoal depends on
+/// the wheel's octomap 1.10 and Debian's libfcl on the system's octomap 1.9, and the two in one
+/// process's global scope crash at exit (a double free in octomap's static objects). Its path
+/// is `TRIDIST_COAL_SHIM` at compile time; Linux only.
+fn coal(site: &Path) {
+    let prefix = site.join("cmeel.prefix");
+    let (inc, lib) = (prefix.join("include"), prefix.join("lib"));
+    if !inc.join("coal/distance.h").is_file() || !lib.join("libcoal.so").is_file() {
+        println!(
+            "cargo:warning=Coal peer not built: no coal wheel in {} (bash scenes/peer/install.sh)",
+            site.display()
+        );
+        return;
+    }
+    if std::env::var("CARGO_CFG_TARGET_OS").as_deref() != Ok("linux") {
+        println!("cargo:warning=Coal peer not built: loaded with RTLD_DEEPBIND, Linux only");
+        return;
+    }
+    let out = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"))
+        .join("libtridist_coal_mesh.so");
+    let compiler = cc::Build::new().cpp(true).get_compiler();
+    // glue only (the work runs in libcoal as the wheel built it): no -march=native, so that
+    // Eigen's object layout matches the library's
+    let status = compiler
+        .to_command()
+        .args(["-std=c++17", "-O2", "-fPIC", "-shared", "-w", "-DCOAL_HAS_OCTOMAP"])
+        .arg("-I")
+        .arg(&inc)
+        .arg("-I")
+        .arg(inc.join("eigen3"))
+        .arg("peer/coal_mesh.cpp")
+        .arg("-o")
+        .arg(&out)
+        .arg(format!("-L{}", lib.display()))
+        .arg("-lcoal")
+        .arg(format!("-Wl,-rpath,{}", lib.display()))
+        .status();
+    if status.is_ok_and(|s| s.success()) {
+        println!("cargo:rustc-env=TRIDIST_COAL_SHIM={}", out.display());
+        println!("cargo:rustc-cfg=tridist_coal");
+    } else {
+        println!("cargo:warning=Coal peer not built: the shim did not compile");
+    }
+}
+
+/// The TrueForm mesh peer: TrueForm's headers and oneTBB (headers and the static `libtbb.a`)
+/// from the `trueform` wheel; compiled here, as TrueForm's users compile it, with `-O3
+/// -march=native`.
+fn trueform(site: &Path) {
+    let (inc, lib) = (site.join("include"), site.join("lib64"));
+    if !inc.join("trueform/trueform.hpp").is_file() || !lib.join("libtbb.a").is_file() {
+        println!(
+            "cargo:warning=TrueForm peer not built: no trueform wheel in {} (bash scenes/peer/install.sh)",
+            site.display()
+        );
+        return;
+    }
+    let mut b = cc::Build::new();
+    b.cpp(true)
+        .file("peer/trueform_mesh.cpp")
+        .include(&inc)
+        .flag_if_supported("-std=c++17")
+        .flag_if_supported("-fvisibility=hidden")
+        .flag_if_supported("-w")
+        .flag_if_supported("-O3")
+        .flag_if_supported("-march=native");
+    if b.try_compile("tridist_trueform_mesh").is_ok() {
+        println!("cargo:rustc-link-search=native={}", lib.display());
+        println!("cargo:rustc-link-lib=static=tbb");
+        println!("cargo:rustc-cfg=tridist_trueform");
+    } else {
+        println!("cargo:warning=TrueForm peer not built: the shim did not compile");
+    }
+}
+
+/// The FCL triangle and mesh peers.
+fn fcl() {
     let fcl = find(
         "FCL_INCLUDE",
         &["/usr/include", "/usr/local/include", "/opt/homebrew/include"],

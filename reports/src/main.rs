@@ -11,6 +11,7 @@
 mod common;
 mod judge;
 mod meshcmd;
+mod meshprotocol;
 mod meshreport;
 mod plot;
 mod report;

@@ -6,8 +6,9 @@ use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
 use tridist::{Batch, ClosestPoints, Engine, Mesh, Pose, Precision, Real, TreeShape};
+use tridist_scenes::mesh_peer::{MeshLib, MeshPeer};
 use tridist_scenes::mesh_scenes::TREE_WIDTHS;
-use tridist_scenes::peer::{FclMesh, Peer, PeerPose};
+use tridist_scenes::peer::{Peer, PeerPose};
 use tridist_scenes::protocol::{carried_normalised as normalised, trajectory_pose as pose_k, NEAR_GAP};
 use tridist_scenes::workload::median_time;
 
@@ -39,7 +40,7 @@ struct Row {
 }
 
 /// A scene mesh as tridist's, rounded to `T`.
-fn mesh<T: Real>(m: &tridist_scenes::mesh::Mesh) -> Result<Mesh<T>, String> {
+pub(crate) fn mesh<T: Real>(m: &tridist_scenes::mesh::Mesh) -> Result<Mesh<T>, String> {
     mesh_shaped(m, TreeShape::default())
 }
 
@@ -50,7 +51,7 @@ fn mesh_shaped<T: Real>(m: &tridist_scenes::mesh::Mesh, shape: TreeShape) -> Res
 }
 
 /// A pose in precision `T` (rounded from f64).
-fn pose_in<T: Real>(p: &Pose<f64>) -> Pose<T> {
+pub(crate) fn pose_in<T: Real>(p: &Pose<f64>) -> Pose<T> {
     Pose { rotation: p.rotation.map(|r| r.map(T::from_f64)), translation: p.translation.map(T::from_f64) }
 }
 
@@ -252,17 +253,23 @@ fn alternated<const N: usize>(mut fs: [&mut dyn FnMut(); N], budget: Duration) -
 /// is used), so that each library runs with its own data in the caches, as repeated queries
 /// do, and a noisy moment of the machine falls on all of them; the median of the bursts'.
 fn bursts<const N: usize>(mut fs: [&mut dyn FnMut(); N], budget: Duration) -> [f64; N] {
-    let mut times: [Vec<f64>; N] = std::array::from_fn(|_| Vec::new());
+    let t = bursts_of(&mut fs, budget);
+    std::array::from_fn(|i| t[i])
+}
+
+/// [`bursts`] of any number of functions.
+pub(crate) fn bursts_of(fs: &mut [&mut dyn FnMut()], budget: Duration) -> Vec<f64> {
+    let mut times: Vec<Vec<f64>> = vec![Vec::new(); fs.len()];
     for _ in 0..BURSTS {
         for (f, t) in fs.iter_mut().zip(times.iter_mut()) {
             t.push(median_time(f, budget / BURSTS as u32));
         }
     }
-    times.map(crate::common::median)
+    times.into_iter().map(crate::common::median).collect()
 }
 
 /// Rounds of [`bursts`].
-const BURSTS: usize = 5;
+pub(crate) const BURSTS: usize = 5;
 
 fn rows<T: Peer + Real>(
     a: &tridist_scenes::mesh::Mesh,
@@ -278,14 +285,22 @@ fn rows<T: Peer + Real>(
     let (ma, mb) = (mesh::<T>(a)?, mesh::<T>(b)?);
     let pa = T::trimesh(&a.vertices, &a.triangles).ok_or("parry refused the first mesh")?;
     let pb = T::trimesh(&b.vertices, &b.triangles).ok_or("parry refused the second mesh")?;
-    let fcl = FclMesh::new(&a.vertices, &a.triangles).zip(FclMesh::new(&b.vertices, &b.triangles));
+    let fcl = MeshPeer::new(MeshLib::Fcl, &a.vertices, &a.triangles).zip(MeshPeer::new(
+        MeshLib::Fcl,
+        &b.vertices,
+        &b.triangles,
+    ));
     let [build, parry_build, fcl_build] = alternated(
         [
             &mut || drop((mesh::<T>(a), mesh::<T>(b))),
             &mut || drop((T::trimesh(&a.vertices, &a.triangles), T::trimesh(&b.vertices, &b.triangles))),
             &mut || {
                 if fcl.is_some() {
-                    drop(FclMesh::new(&a.vertices, &a.triangles).zip(FclMesh::new(&b.vertices, &b.triangles)))
+                    drop(MeshPeer::new(MeshLib::Fcl, &a.vertices, &a.triangles).zip(MeshPeer::new(
+                        MeshLib::Fcl,
+                        &b.vertices,
+                        &b.triangles,
+                    )))
                 }
             },
         ],
@@ -320,7 +335,7 @@ fn rows<T: Peer + Real>(
                 let [t_d, f_d] =
                     bursts([&mut run_d, &mut || fcl_d = fa.distance(&id64, fb, &pose64)], budget);
                 let [t_i, f_i] =
-                    bursts([&mut run_i, &mut || fcl_hit = Some(fa.collide(&id64, fb, &pose64))], budget);
+                    bursts([&mut run_i, &mut || fcl_hit = fa.collide(&id64, fb, &pose64)], budget);
                 (fcl_t_d, fcl_t_i) = (f_d, f_i);
                 (t_d, t_i)
             }
@@ -450,7 +465,7 @@ struct Built {
 }
 
 /// Milliseconds, or "-" for a peer not measured (NaN).
-fn ms(s: f64) -> String {
+pub(crate) fn ms(s: f64) -> String {
     if s.is_nan() {
         "-".into()
     } else {
@@ -459,7 +474,7 @@ fn ms(s: f64) -> String {
 }
 
 /// A ratio, or "-" for a peer not measured.
-fn ratio(x: f64, digits: usize) -> String {
+pub(crate) fn ratio(x: f64, digits: usize) -> String {
     if x.is_nan() {
         "-".into()
     } else {
@@ -517,7 +532,11 @@ fn near_rows(
     seed: u64,
 ) -> Result<Vec<NearRow>, String> {
     let (a32, b32, a64, b64) = (mesh::<f32>(a)?, mesh::<f32>(b)?, mesh::<f64>(a)?, mesh::<f64>(b)?);
-    let fcl = FclMesh::new(&a.vertices, &a.triangles).zip(FclMesh::new(&b.vertices, &b.triangles));
+    let fcl = MeshPeer::new(MeshLib::Fcl, &a.vertices, &a.triangles).zip(MeshPeer::new(
+        MeshLib::Fcl,
+        &b.vertices,
+        &b.triangles,
+    ));
     let e = Engine::auto();
     let (id32, id64) = (Pose::<f32>::identity(), Pose::<f64>::identity());
     let mut out = Vec::new();
@@ -542,7 +561,7 @@ fn near_rows(
                     budget,
                 );
                 let [i32_, i64_, f_i] = bursts(
-                    [&mut run_i32, &mut run_i64, &mut || fcl_hit = Some(fa.collide(&id64, fb, &pose64))],
+                    [&mut run_i32, &mut run_i64, &mut || fcl_hit = fa.collide(&id64, fb, &pose64)],
                     budget,
                 );
                 (fcl_t_d, fcl_t_i) = (f_d, f_i);
@@ -732,7 +751,7 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
         Engine::auto().isa(),
         tridist::TreeShape::DEFAULT.width,
         tridist::TreeShape::DEFAULT.leaf,
-        if FclMesh::available() { "measured" } else { "**not measured: FCL was not found at build time** (`apt-get install libfcl-dev libeigen3-dev`, then rebuild)" },
+        if MeshLib::Fcl.available() { "measured" } else { "**not measured: FCL was not found at build time** (`apt-get install libfcl-dev libeigen3-dev`, then rebuild)" },
         s.budget.as_millis()
     );
     // per precision: mean distance ms of tridist and FCL, mean intersect ms of both, parry ratio
@@ -824,10 +843,11 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
     let _ = writeln!(t, "Contacts on two threads: `Engine::threads(2)`, the traversal split into pieces walked in parallel and the contacts sorted in parallel (same contacts, same order); per pose, one and two threads measured alternately, three rounds, medians. The summary's figure at the pose with the most contacts is measured again in {SCALING_ROUNDS} rounds, each of one- and two-thread calls alternated call by call (at least 375 ms), then, as the machine's ceiling at that moment, two independent one-thread workers running the query at once for at least 250 ms (their combined speed over one thread's; this machine's two cores are shared, so that ceiling is below 2x when other work runs), medians.\n");
     let near = near_rows(&a, &b, s.budget, s.mesh_poses, seed)?;
     let near_summary = near_md(&mut t, &near);
+    let protocol_summary = crate::meshprotocol::protocol_md(&mut t, s, seed)?;
     shapes_sections(&mut t, &a, &b, s, &near.iter().map(|r| r.pose).collect::<Vec<_>>())?;
     let (m32, m64) = (means[0], means[1]);
     let summary = format!(
-        "- Mesh distance with closest points, Armadillo vs fandisk ({} poses through each other), one thread, mean per pose: tridist f32 {} ms, f64 {} ms; FCL (OBBRSS, double) {} ms: **{} (f32)** and **{} (f64)** FCL's speed; parry3d {:.1}x slower than tridist f32. Collision: tridist {} ms, FCL {} ms. Contacts within 1 % of the scene's size on two threads, at the pose with the most contacts: {} (f32) and {} (f64) one thread's speed (two independent one-thread workers at the same time: {} and {}).{near_summary} Tree build of both meshes ({BUILD_TIMING}): tridist f32 {} ms, f64 {} ms (axis-aligned and oriented boxes); parry3d f32 {} ms, f64 {} ms (axis-aligned boxes), so tridist takes {} (f32) and {} (f64) parry3d's time; FCL (OBBRSS) {} ms ([reports/MESH.md](reports/MESH.md)).",
+        "- Mesh distance with closest points, Armadillo vs fandisk ({} poses through each other), one thread, mean per pose: tridist f32 {} ms, f64 {} ms; FCL (OBBRSS, double) {} ms: **{} (f32)** and **{} (f64)** FCL's speed; parry3d {:.1}x slower than tridist f32. Collision: tridist {} ms, FCL {} ms. Contacts within 1 % of the scene's size on two threads, at the pose with the most contacts: {} (f32) and {} (f64) one thread's speed (two independent one-thread workers at the same time: {} and {}).{near_summary}{protocol_summary} Tree build of both meshes ({BUILD_TIMING}): tridist f32 {} ms, f64 {} ms (axis-aligned and oriented boxes); parry3d f32 {} ms, f64 {} ms (axis-aligned boxes), so tridist takes {} (f32) and {} (f64) parry3d's time; FCL (OBBRSS) {} ms ([reports/MESH.md](reports/MESH.md)).",
         s.mesh_poses,
         ms(m32.0),
         ms(m64.0),

@@ -400,7 +400,7 @@ fn a_small_report_writes_parseable_files() {
     // the mesh table: both ends of the trajectory apart, its middle through the armadillo,
     // the libraries agreeing (FCL when it was built)
     let mesh = std::fs::read_to_string(dir.join("MESH.md")).unwrap();
-    let fcl = tridist_scenes::peer::FclMesh::available();
+    let fcl = tridist_scenes::mesh_peer::MeshLib::Fcl.available();
     for p in ["## tridist f32", "## tridist f64"] {
         let rows: Vec<Vec<&str>> = mesh
             .split(p)
@@ -434,7 +434,7 @@ fn a_small_report_writes_parseable_files() {
         .split("## Near contact at random orientations")
         .nth(1)
         .expect("the near-contact section")
-        .split("## Tree width")
+        .split("\n## ")
         .next()
         .unwrap_or_default()
         .lines()
@@ -513,6 +513,37 @@ fn a_small_report_writes_parseable_files() {
                 if c[1] == "4" {
                     assert!(c[10..14].iter().all(|x| *x == "1.00x"), "{c:?}");
                 }
+            }
+        }
+    }
+    // TrueForm's protocol: per pair, tridist in both precisions and a row per C++ mesh peer,
+    // measured exactly when that peer was built, its distances agreeing with tridist f64's
+    // (float within float's rounding of a [-1, 1]^3 scene), on 4 x 3 placements
+    let protocol = mesh.split("## TrueForm's protocol").nth(1).expect("the protocol section");
+    let pairs: Vec<&str> =
+        protocol.split("\n### ").skip(1).map(|p| p.split("\n## ").next().unwrap()).collect();
+    assert_eq!(pairs.len(), 2, "{protocol}");
+    for pair in pairs {
+        let rows: Vec<Vec<&str>> = pair
+            .lines()
+            .filter(|l| l.starts_with("| ") && !l.starts_with("| library"))
+            .map(|l| l.split(" | ").map(|c| c.trim_matches(['|', ' '])).collect())
+            .collect();
+        assert_eq!(rows.len(), 2 + tridist_scenes::mesh_peer::MeshLib::ALL.len() + 1, "{pair}");
+        let num =
+            |x: &str| x.trim_end_matches('x').parse::<f64>().unwrap_or_else(|_| panic!("{x:?} in {pair}"));
+        for r in &rows[..2] {
+            assert!(r[0].starts_with("tridist f") && num(r[1]) > 0.0 && num(r[2]) > 0.0, "{r:?}");
+        }
+        let libs = tridist_scenes::mesh_peer::MeshLib::ALL;
+        for (r, lib) in rows[2..].iter().zip(libs.iter().chain([&libs[2]])) {
+            assert!(r[0].starts_with(lib.name()), "{r:?} {lib:?}");
+            assert_eq!(!r[1].starts_with("not built"), lib.available(), "{r:?}");
+            if lib.available() {
+                assert!(num(r[1]) > 0.0 && num(r[3]) > 0.0 && num(r[4]) <= num(r[3]), "{r:?}");
+                assert!(r[5].ends_with(" of 12"), "{r:?}");
+                let tol = if r[0].contains("float") { 1e-5 } else { 1e-9 };
+                assert!(num(r[8]) <= tol, "{r:?}: distances disagree");
             }
         }
     }

@@ -26,8 +26,10 @@ fcl::Transform3d pose(const double* r, const double* t) {
 }  // namespace
 
 // The model of nv vertices (3 coordinates each) and nt triangles (3 indices each), its tree
-// built; free with tridist_fcl_mesh_free.
-extern "C" void* tridist_fcl_mesh_new(std::size_t nv, const double* v, std::size_t nt, const std::uint32_t* t) {
+// built; free with tridist_fcl_mesh_free. config: unused (one configuration; the mesh peers'
+// common C ABI, scenes/src/mesh_peer.rs).
+extern "C" void* tridist_fcl_mesh_new(std::size_t nv, const double* v, std::size_t nt, const std::uint32_t* t,
+                                      std::uint32_t) {
   std::vector<fcl::Vector3d> pts(nv);
   for (std::size_t i = 0; i < nv; ++i) pts[i] = fcl::Vector3d(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
   std::vector<fcl::Triangle> tris(nt);

@@ -9,6 +9,7 @@
 //!   each with its reason;
 //! * `peer` (feature `peers`): parry3d / parry3d-f64 (and FCL when its headers are installed),
 //!   the peers measured and judged on the same inputs;
+//! * `mesh_peer` (feature `peers`): the C++ mesh peers (FCL, Coal, TrueForm) when installed;
 //! * [`fuzzing`]: the fuzz targets' bodies, run by libFuzzer (`fuzz/`) and replayed on stable
 //!   by `cargo test` (committed findings in `fuzz/regressions/`).
 
@@ -18,6 +19,8 @@ pub mod families;
 pub mod float;
 pub mod fuzzing;
 pub mod mesh;
+#[cfg(feature = "peers")]
+pub mod mesh_peer;
 pub mod mesh_scenes;
 #[cfg(feature = "peers")]
 pub mod peer;

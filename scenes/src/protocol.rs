@@ -301,3 +301,82 @@ pub fn near_contact_pose(
     }
     Ok(at(hi))
 }
+
+/// TrueForm's published mesh-distance protocol (its benchmarks of mesh-to-mesh closest points):
+/// the second mesh at random rigid placements, a uniformly random rotation (a uniform unit
+/// quaternion, Shoemake's method) about the origin, then a translation uniform in the ball of
+/// `radius` about the origin (rejection from the cube). Both meshes are in [-1, 1]^3 there
+/// ([`carried_normalised`]) and the radius is twice the diagonal of the fixed mesh's bounding
+/// box ([`ball_radius`]), so most placements are separated and some overlap. `n` placements
+/// from `seed`, the same on every run.
+pub fn ball_placements(n: usize, radius: f64, seed: u64) -> Vec<Pose<f64>> {
+    let mut r = Rng::new(seed ^ 0x7472_7565_666f_726d);
+    (0..n)
+        .map(|_| {
+            let (u1, u2, u3) = (r.unit(), r.unit(), r.unit());
+            let tau = std::f64::consts::TAU;
+            let (s1, s2) = ((1.0 - u1).sqrt(), u1.sqrt());
+            let q =
+                [s1 * (tau * u2).sin(), s1 * (tau * u2).cos(), s2 * (tau * u3).sin(), s2 * (tau * u3).cos()];
+            // q = (x, y, z, w) as axis and angle (any axis for the identity)
+            let w = q[3].clamp(-1.0, 1.0);
+            let angle = 2.0 * w.acos();
+            let axis = if q[..3].iter().all(|&c| c == 0.0) { [0.0, 0.0, 1.0] } else { [q[0], q[1], q[2]] };
+            let t = loop {
+                let p = [r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.0, 1.0)];
+                if p.iter().map(|c| c * c).sum::<f64>() <= 1.0 {
+                    break p.map(|c| c * radius);
+                }
+            };
+            Pose::from_axis_angle(axis, angle, t).expect("a non-zero finite axis")
+        })
+        .collect()
+}
+
+/// The radius of [`ball_placements`] for the fixed mesh `m`: twice the diagonal of its
+/// axis-aligned bounding box.
+pub fn ball_radius(m: &Mesh) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for v in &m.vertices {
+        for k in 0..3 {
+            lo[k] = lo[k].min(v[k]);
+            hi[k] = hi[k].max(v[k]);
+        }
+    }
+    2.0 * (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+}
+
+#[cfg(test)]
+mod ball_tests {
+    use super::*;
+
+    /// The placements are rigid, inside the ball, reproducible, and spread: rotations about
+    /// every axis (the mean of each rotation column near 0, as for uniform rotations) and
+    /// translations filling the ball (the mean distance from the centre near 3/4 of the radius).
+    #[test]
+    fn ball_placements_are_uniform_rigid_and_reproducible() {
+        let n = 4000;
+        let p = ball_placements(n, 5.0, 1);
+        assert_eq!(p.len(), n);
+        assert_eq!(p, ball_placements(n, 5.0, 1));
+        assert_ne!(p, ball_placements(n, 5.0, 2));
+        let mut col = [[0.0f64; 3]; 3];
+        let mut reach = 0.0;
+        for q in &p {
+            let r = q.rotation;
+            for i in 0..3 {
+                let row = r[i];
+                assert!((row.iter().map(|x| x * x).sum::<f64>() - 1.0).abs() < 1e-12, "orthonormal rows");
+                for j in 0..3 {
+                    col[i][j] += r[i][j] / n as f64;
+                }
+            }
+            let d = q.translation.iter().map(|x| x * x).sum::<f64>().sqrt();
+            assert!(d <= 5.0 + 1e-12);
+            reach += d / n as f64;
+        }
+        assert!(col.iter().flatten().all(|m| m.abs() < 0.05), "{col:?}");
+        assert!((reach / 5.0 - 0.75).abs() < 0.02, "{reach}");
+    }
+}

@@ -1,0 +1,178 @@
+//! MESH.md's "TrueForm's protocol" section: mesh distance at random rigid placements of the
+//! second mesh (the protocol TrueForm publishes its mesh figures with), tridist beside every C++
+//! mesh peer built here (FCL, Coal, TrueForm in three tree configurations, TrueForm also on its
+//! default threads), per placement, in the same run.
+
+use std::fmt::Write as _;
+use std::time::Duration;
+
+use tridist::{Engine, Mesh, Pose, Real};
+use tridist_scenes::mesh::Mesh as SceneMesh;
+use tridist_scenes::mesh_peer::{trueform_threads, MeshLib, MeshPeer};
+use tridist_scenes::protocol::{ball_placements, ball_radius, carried_normalised};
+
+use crate::meshreport::{bursts_of, mesh, ms, pose_in, ratio};
+use crate::report::Settings;
+
+/// The pairs measured (fixed mesh, moving mesh).
+const PAIRS: [(&str, &str); 2] = [("armadillo.off", "armadillo.off"), ("armadillo.off", "fandisk_large.off")];
+
+/// One contender's distance and time (seconds) per placement.
+struct Column {
+    name: String,
+    /// Why it was not measured, when it was not.
+    missing: Option<&'static str>,
+    d: Vec<f64>,
+    t: Vec<f64>,
+}
+
+impl Column {
+    fn new(name: &str) -> Column {
+        Column { name: name.into(), missing: None, d: Vec::new(), t: Vec::new() }
+    }
+}
+
+/// tridist's distance (not squared) at `p`, NaN on an error.
+fn distance<T: Real>(e: &Engine, a: &Mesh<T>, b: &Mesh<T>, p: &Pose<T>) -> f64 {
+    e.mesh_distance(a, &Pose::identity(), b, p).ok().flatten().map_or(f64::NAN, |r| r.sqdist.to_f64().sqrt())
+}
+
+/// Every contender on every placement of one pair: per placement, the one-thread contenders
+/// in alternated bursts (`bursts_of`), then TrueForm on its default threads in bursts of its own.
+fn measure(
+    a: &SceneMesh,
+    b: &SceneMesh,
+    poses: &[Pose<f64>],
+    budget: Duration,
+) -> Result<Vec<Column>, String> {
+    let e = Engine::auto();
+    let (a32, b32, a64, b64) = (mesh::<f32>(a)?, mesh::<f32>(b)?, mesh::<f64>(a)?, mesh::<f64>(b)?);
+    let peers: Vec<(MeshLib, Option<(MeshPeer, MeshPeer)>)> = MeshLib::ALL
+        .iter()
+        .map(|&l| {
+            (l, MeshPeer::new(l, &a.vertices, &a.triangles).zip(MeshPeer::new(l, &b.vertices, &b.triangles)))
+        })
+        .collect();
+    let mut cols = vec![Column::new("tridist f32"), Column::new("tridist f64")];
+    for (l, m) in &peers {
+        let mut c = Column::new(&format!("{}, one thread", l.name()));
+        c.missing = m.is_none().then(|| l.how_to_get());
+        cols.push(c);
+    }
+    let tf = MeshLib::TrueFormAabbF32;
+    let tf_models = peers.iter().find(|(l, _)| *l == tf).and_then(|(_, m)| m.as_ref());
+    let mut c = Column::new(&format!("{}, TBB's default threads", tf.name()));
+    c.missing = tf_models.is_none().then(|| tf.how_to_get());
+    cols.push(c);
+    let id = Pose::<f64>::identity();
+    for p in poses {
+        let (p32, p64) = (pose_in::<f32>(p), pose_in::<f64>(p));
+        let mut d = vec![f64::NAN; cols.len()];
+        trueform_threads(1);
+        let t = {
+            let (d_t, d_p) = d.split_at_mut(2);
+            let [d32, d64] = d_t else { unreachable!("two tridist columns") };
+            let mut fs: Vec<Box<dyn FnMut() + '_>> = vec![
+                Box::new(|| *d32 = distance(&e, &a32, &b32, &p32)),
+                Box::new(|| *d64 = distance(&e, &a64, &b64, &p64)),
+            ];
+            for ((_, m), slot) in peers.iter().zip(d_p.iter_mut()) {
+                if let Some((ma, mb)) = m {
+                    fs.push(Box::new(move || *slot = ma.distance(&id, mb, p)));
+                }
+            }
+            let mut refs: Vec<&mut dyn FnMut()> =
+                fs.iter_mut().map(|f| &mut **f as &mut dyn FnMut()).collect();
+            bursts_of(&mut refs, budget)
+        };
+        // the measured columns' times, in order
+        let mut t = t.into_iter();
+        for (k, c) in cols.iter_mut().enumerate().take(2 + peers.len()) {
+            if c.missing.is_none() {
+                c.t.push(t.next().unwrap_or(f64::NAN));
+                c.d.push(d[k]);
+            }
+        }
+        if let Some((ma, mb)) = tf_models {
+            trueform_threads(0);
+            let mut dd = f64::NAN;
+            let t = bursts_of(&mut [&mut || dd = ma.distance(&id, mb, p)], budget);
+            trueform_threads(1);
+            let c = cols.last_mut().expect("the default-threads column");
+            c.t.push(t[0]);
+            c.d.push(dd);
+        }
+    }
+    Ok(cols)
+}
+
+/// The section and its summary for the README.
+pub fn protocol_md(t: &mut String, s: &Settings, seed: u64) -> Result<String, String> {
+    let n = 4 * s.mesh_poses;
+    let budget = s.budget / 2;
+    let _ = writeln!(
+        t,
+        "## TrueForm's protocol: random placements\n\nMesh distance (closest pair with its points; tridist `mesh_distance`, FCL and Coal `distance` with nearest points, TrueForm `tf::neighbor_search` of two forms) with the second mesh at {n} random rigid placements: a uniformly random rotation about the origin, then a translation uniform in the ball of twice the fixed mesh's bounding-box diagonal (`protocol::ball_placements`, seed {seed}); both meshes scaled to [-1, 1]^3. This is the protocol TrueForm publishes its mesh distance figures with: most placements are separated, where a query spends its time in the trees, not in the triangle kernels. Per placement each contender's time is the median of {} alternated bursts of repeated calls within {:.1} ms in all (as above), one thread, TrueForm also on TBB's default threads (every core) in bursts of its own. Peers: FCL 0.7 (Debian's `libfcl-dev`, the library as shipped), Coal 3.0.3 (the PyPI wheel's `libcoal`; FCL's maintained fork, OBBRSS), TrueForm 0.10.7 (the PyPI wheel's headers, compiled here with `-O3 -march=native`, trees of 4 children and 4 triangles per leaf as its own benchmarks build them; axis-aligned boxes in float as its benchmarks use, axis-aligned and OBBRSS in double). Coal and TrueForm: `bash scenes/peer/install.sh`, then rebuild. Over tridist: the peer's time over tridist's at each placement (above 1: tridist is faster), the median and the worst placement; |Δd|: the largest difference from tridist f64's distance.\n",
+        crate::meshreport::BURSTS,
+        budget.as_secs_f64() * 1e3,
+    );
+    let mut summary = Vec::new();
+    for (fa, fb) in PAIRS {
+        let (a, b) = (carried_normalised(fa)?, carried_normalised(fb)?);
+        let poses = ball_placements(n, ball_radius(&a), seed);
+        let cols = measure(&a, &b, &poses, budget)?;
+        let name = |f: &str| f.trim_end_matches(".off").trim_end_matches("_large").to_string();
+        let separated = cols[1].d.iter().filter(|&&d| d > 0.0).count();
+        let _ = writeln!(
+            t,
+            "### {} ({} triangles) vs {} ({} triangles)\n\n{separated} of the {n} placements separated.\n\n| library | median ms | mean ms | over tridist f64 (median) | worst | placements where it is faster | over tridist f32 (median) | worst | \\|Δd\\| |\n|---|---|---|---|---|---|---|---|---|",
+            name(fa),
+            a.triangles.len(),
+            name(fb),
+            b.triangles.len(),
+        );
+        let mut line = Vec::new();
+        for c in &cols {
+            if let Some(how) = c.missing {
+                let _ = writeln!(t, "| {} | not built ({how}) | | | | | | | |", c.name);
+                continue;
+            }
+            let over = |k: usize| -> Vec<f64> { c.t.iter().zip(&cols[k].t).map(|(p, q)| p / q).collect() };
+            let (o64, o32) = (over(1), over(0));
+            let worst = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+            let faster = o64.iter().filter(|&&r| r < 1.0).count();
+            let dd = c.d.iter().zip(&cols[1].d).map(|(x, y)| (x - y).abs()).fold(0.0f64, f64::max);
+            let own = c.name.starts_with("tridist");
+            let _ = writeln!(
+                t,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {:.1e} |",
+                c.name,
+                ms(crate::common::median(c.t.clone())),
+                ms(c.t.iter().sum::<f64>() / c.t.len() as f64),
+                if own { "-".into() } else { ratio(crate::common::median(o64.clone()), 2) },
+                if own { "-".into() } else { ratio(worst(&o64), 2) },
+                if own { "-".into() } else { format!("{faster} of {n}") },
+                if own { "-".into() } else { ratio(crate::common::median(o32.clone()), 2) },
+                if own { "-".into() } else { ratio(worst(&o32), 2) },
+                dd
+            );
+            if !own {
+                let w = ratio(worst(&o64), 2);
+                line.push(format!(
+                    "{} {} (worst {w})",
+                    c.name.replace(", one thread", ""),
+                    ratio(crate::common::median(o64), 2)
+                ));
+            }
+        }
+        let _ = writeln!(t);
+        summary.push(format!(
+            "{} vs {}: tridist f64 {} ms median per placement; peer time over tridist f64's, median (worst placement): {}",
+            name(fa),
+            name(fb),
+            ms(crate::common::median(cols[1].t.clone())),
+            if line.is_empty() { "no C++ peer built".to_string() } else { line.join(", ") }
+        ));
+    }
+    Ok(format!(" TrueForm's protocol ({n} random placements, one thread): {}.", summary.join("; ")))
+}

@@ -1,0 +1,62 @@
+// tridist's shim over Coal's mesh-vs-mesh distance and collision (BVHModel<OBBRSS>, the bounding
+// volume Coal recommends for distance), for measuring Coal as a mesh peer on the same meshes and
+// poses in the same run. Built by scenes/build.rs only when Coal's headers and shared library
+// are found (`bash scenes/peer/install.sh` installs the `coal` wheel in a virtual environment
+// under target/peers; or set COAL_PREFIX). Coal's library is built for double only.
+//
+// The C ABI is the one every mesh peer shim offers (scenes/src/mesh_peer.rs):
+// new(nv, v, nt, t, config) / free / distance / collide, poses as rotation rows and translation.
+#include <coal/BV/OBBRSS.h>
+#include <coal/BVH/BVH_model.h>
+#include <coal/collision.h>
+#include <coal/distance.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace {
+using Model = coal::BVHModel<coal::OBBRSS>;
+
+coal::Transform3s pose(const double* r, const double* t) {
+  coal::Matrix3s m;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m(i, j) = r[3 * i + j];
+  return coal::Transform3s(m, coal::Vec3s(t[0], t[1], t[2]));
+}
+}  // namespace
+
+// The model of nv vertices and nt triangles, its tree built (config: unused, one configuration).
+extern "C" void* tridist_coal_mesh_new(std::size_t nv, const double* v, std::size_t nt, const std::uint32_t* t,
+                                       std::uint32_t) {
+  std::vector<coal::Vec3s> pts(nv);
+  for (std::size_t i = 0; i < nv; ++i) pts[i] = coal::Vec3s(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+  std::vector<coal::Triangle> tris(nt);
+  for (std::size_t i = 0; i < nt; ++i) tris[i] = coal::Triangle(t[3 * i], t[3 * i + 1], t[3 * i + 2]);
+  Model* m = new Model();
+  m->beginModel();
+  m->addSubModel(pts, tris);
+  m->endModel();
+  return m;
+}
+
+extern "C" void tridist_coal_mesh_free(void* m) { delete static_cast<Model*>(m); }
+
+// The distance (not squared) between two placed models, nearest points computed.
+extern "C" double tridist_coal_mesh_distance(const void* a, const double* ra, const double* ta, const void* b,
+                                             const double* rb, const double* tb) {
+  coal::DistanceRequest req;
+  req.enable_nearest_points = true;
+  coal::DistanceResult res;
+  coal::distance(static_cast<const Model*>(a), pose(ra, ta), static_cast<const Model*>(b), pose(rb, tb), req, res);
+  return res.min_distance;
+}
+
+// Whether two placed models collide (one contact requested: Coal stops at the first).
+extern "C" int tridist_coal_mesh_collide(const void* a, const double* ra, const double* ta, const void* b,
+                                         const double* rb, const double* tb) {
+  coal::CollisionRequest req;
+  coal::CollisionResult res;
+  coal::collide(static_cast<const Model*>(a), pose(ra, ta), static_cast<const Model*>(b), pose(rb, tb), req, res);
+  return res.isCollision() ? 1 : 0;
+}
