@@ -14,6 +14,7 @@ mod meshcmd;
 mod meshprotocol;
 mod meshreport;
 mod plot;
+mod posescmd;
 mod report;
 mod table;
 
@@ -100,6 +101,12 @@ enum Cmd {
     /// intersect, with --margin the contact count and the closest contacts, with --point the
     /// closest point of the second mesh.
     Mesh(meshcmd::MeshArgs),
+    /// Write the poses of one of the report's mesh protocols for two meshes.
+    ///
+    /// Both meshes normalised to [-1, 1]^3 as the report places them; one pose of the second
+    /// mesh per line (a label, the translation and the rotation's rows), for `tridist mesh A B
+    /// --normalise --poses FILE`.
+    Poses(posescmd::PosesArgs),
     /// Pick the fastest variant that meets a distance tolerance.
     ///
     /// Picks the fastest variant whose declared error bound (the bound table's E, times u S)
@@ -311,6 +318,7 @@ fn main() -> ExitCode {
         Cmd::Cases(a) => judge::cmd_cases(&a),
         Cmd::Judge(a) => judge::cmd_judge(&a),
         Cmd::Mesh(a) => meshcmd::cmd_mesh(&a),
+        Cmd::Poses(a) => posescmd::cmd_poses(&a),
         Cmd::Advise { scale, tolerance, query, csv } => cmd_advise(scale, tolerance, query, csv),
     };
     match res {

@@ -54,6 +54,19 @@ pub struct MeshArgs {
     /// queries (`--margin`); see "Leaf size" in reports/MESH.md.
     #[arg(long, default_value_t = tridist::TreeShape::DEFAULT.leaf, value_parser = leaf_size, allow_negative_numbers = true)]
     pub leaf: usize,
+    /// Time the queries at each pose of the second mesh in this file (one per line: an optional
+    /// label, then 3, 7 or 12 numbers; `tridist poses` writes them) instead of one --pose-b:
+    /// a line per pose with the distance, the triangle pair, the verdict, with --margin the
+    /// contact count, and each query's time.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["pose_b", "point"])]
+    pub poses: Option<PathBuf>,
+    /// Centre and scale both meshes to fit [-1, 1]^3 (largest side), as the report's
+    /// protocols and `tridist poses` place them.
+    #[arg(long)]
+    pub normalise: bool,
+    /// With --poses: each time is the median of repeated calls within this many milliseconds.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=60_000), allow_negative_numbers = true)]
+    pub budget_ms: u32,
 }
 
 /// A tree width the library accepts ([`TreeShape::check`], so the message is the library's).
@@ -104,9 +117,9 @@ fn pose<T: Real>(p: &[f64; 7]) -> Result<Pose<T>, String> {
         .map_err(|e| format!("{e} (in {})", T::PRECISION.name()))
 }
 
-fn load<T: Real>(path: &std::path::Path, shape: TreeShape) -> Result<Mesh<T>, Fail> {
+fn load<T: Real>(path: &std::path::Path, shape: TreeShape, normalise: bool) -> Result<Mesh<T>, Fail> {
     // the loader's errors name the file
-    let m = tridist_scenes::mesh::Mesh::load(path).map_err(|e| Fail(e.to_string()))?;
+    let m = crate::posescmd::load_scene(path, normalise)?;
     let v = m.vertices.iter().map(|p| p.map(T::from_f64)).collect();
     Mesh::with_shape(v, m.triangles, shape).map_err(|e| Fail(format!("{}: {e}", path.display())))
 }
@@ -169,7 +182,15 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
     let e = Engine::new(a.variant.isa())?;
     let t0 = Instant::now();
     let shape = TreeShape { width: a.width, leaf: a.leaf };
-    let (ma, mb) = (load::<T>(&a.a, shape)?, load::<T>(&a.b, shape)?);
+    // the poses file is read first: a malformed one fails before the trees are built
+    let poses = match &a.poses {
+        Some(f) => {
+            let text = std::fs::read_to_string(f).map_err(|e| Fail(format!("{}: {e}", f.display())))?;
+            Some(crate::posescmd::read_poses(&text).map_err(|e| Fail(format!("{}: {e}", f.display())))?)
+        }
+        None => None,
+    };
+    let (ma, mb) = (load::<T>(&a.a, shape, a.normalise)?, load::<T>(&a.b, shape, a.normalise)?);
     let build = t0.elapsed().as_secs_f64();
     let (pa, pb) = (
         pose::<T>(&a.pose_a).map_err(|e| Fail(format!("--pose-a: {e}")))?,
@@ -187,6 +208,14 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
         e.isa(),
         T::PRECISION.name()
     );
+    if let Some(poses) = poses {
+        let margin = a.margin.map(|m| (T::from_f64(m), m));
+        if margin.is_some_and(|(m, _)| !m.is_finite()) {
+            return Err(Fail(format!("--margin beyond the range of {}", T::PRECISION.name())));
+        }
+        let budget = std::time::Duration::from_millis(a.budget_ms.into());
+        return crate::posescmd::timed(&e, &ma, &pa, &mb, &poses, margin, budget);
+    }
     let t0 = Instant::now();
     match e.mesh_distance(&ma, &pa, &mb, &pb)? {
         Some(d) => {

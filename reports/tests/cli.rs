@@ -944,3 +944,87 @@ fn mesh_distances_whose_squares_overflow() {
     assert_eq!(code, 3, "{err}");
     assert!(err.contains("--margin 1e300 is beyond the range of f32"), "{err}");
 }
+
+/// Poses files end to end: `tridist poses` writes each protocol's poses (parsed back here as
+/// rigid 12-number poses), `tridist mesh --normalise --poses` answers them line by line (the
+/// trajectory's two ends apart, its middle through the fixed mesh), the three line forms and
+/// labels are read, malformed files and conflicting flags are refused with their reason.
+#[test]
+fn poses_files_are_written_and_timed() {
+    let a = tetrahedron("poses");
+    let dir = tmp("poses");
+    for (protocol, count) in [("ball", 4), ("trajectory", 3), ("near", 2)] {
+        let (code, out, err) =
+            tridist(&["poses", &a, &a, "--protocol", protocol, "--count", &count.to_string()], "");
+        assert_eq!(code, 0, "{err}");
+        let lines: Vec<Vec<&str>> =
+            out.lines().filter(|l| !l.starts_with('#')).map(|l| l.split(' ').collect()).collect();
+        assert_eq!(lines.len(), count, "{out}");
+        for (k, l) in lines.iter().enumerate() {
+            assert_eq!(l[0], format!("{protocol}-{k}"));
+            let v: Vec<f64> = l[1..].iter().map(|x| x.parse().unwrap()).collect();
+            assert_eq!(v.len(), 12, "{l:?}");
+            // a rotation: unit rows
+            for r in v[3..].chunks(3) {
+                assert!((r.iter().map(|x| x * x).sum::<f64>() - 1.0).abs() < 1e-12, "{l:?}");
+            }
+        }
+        let file = dir.join(format!("{protocol}.txt"));
+        std::fs::write(&file, &out).unwrap();
+        let (code, got, err) = tridist(
+            &["mesh", &a, &a, "--normalise", "--poses", file.to_str().unwrap(), "--budget-ms", "1"],
+            "",
+        );
+        assert_eq!(code, 0, "{err}");
+        let rows: Vec<Vec<&str>> = got
+            .lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with("meshes:"))
+            .map(|l| l.split(' ').collect())
+            .collect();
+        assert_eq!(rows.len(), count, "{got}");
+        for (k, r) in rows.iter().enumerate() {
+            assert_eq!((r[0], r.len()), (format!("{protocol}-{k}").as_str(), 7), "{got}");
+            let (d, hit): (f64, &str) = (r[1].parse().unwrap(), r[5]);
+            assert!(r[4].parse::<f64>().unwrap() > 0.0 && r[6].parse::<f64>().unwrap() >= 0.0, "{r:?}");
+            assert_eq!(hit == "yes", d == 0.0, "{r:?}");
+            match protocol {
+                "trajectory" => assert_eq!(hit == "yes", k == 1, "{r:?}"),
+                // the gap, 1e-3 of the normalised size, bisected from above
+                "near" => assert!((1e-3..1.001e-3).contains(&d), "{r:?}"),
+                _ => {}
+            }
+        }
+    }
+    // the three forms, labelled or not, and the contacts columns
+    let file = dir.join("forms.txt");
+    std::fs::write(&file, "# comment\n\n3 0 0\nturned 3 0 0 0 0 1 90\n3 0 0 1 0 0 0 1 0 0 0 1\n").unwrap();
+    let (code, got, err) =
+        tridist(&["mesh", &a, &a, "--poses", file.to_str().unwrap(), "--margin", "2.5"], "");
+    assert_eq!(code, 0, "{err}");
+    let rows: Vec<&str> = got.lines().filter(|l| !l.starts_with("meshes:")).collect();
+    assert!(rows[0].ends_with("contacts_within_2.5 contacts_ms"), "{got}");
+    let labels: Vec<&str> = rows[1..].iter().map(|r| r.split(' ').next().unwrap()).collect();
+    assert_eq!(labels, ["pose-0", "turned", "pose-2"]);
+    for r in [rows[1], rows[3]] {
+        let c: Vec<&str> = r.split(' ').collect();
+        // two unit tetrahedra 2 apart: 12 contacts within 2.5 (as the README's example)
+        assert_eq!((c[1], c[5], c[7]), ("2", "no", "12"), "{r}");
+    }
+    // refused: a malformed line (with its number), no pose, a flag that names another pose
+    for (text, says) in [
+        ("1 2 3\n1 2\n", "line 2: a pose is 3, 7 or 12 numbers"),
+        ("x 1 2 nan\n", "line 1: a non-finite number"),
+        ("0 0 0 0 0 0 90\n", "line 1: "),
+        ("# nothing\n", "no pose in the file"),
+    ] {
+        std::fs::write(&file, text).unwrap();
+        let (code, out, err) = tridist(&["mesh", &a, &a, "--poses", file.to_str().unwrap()], "");
+        assert_eq!(code, 3, "{text}: {out}");
+        assert!(err.contains(says), "{text}: {err}");
+    }
+    let (code, _, err) =
+        tridist(&["mesh", &a, &a, "--poses", file.to_str().unwrap(), "--pose-b", "1,0,0"], "");
+    assert_eq!(code, 2, "{err}");
+    let (code, _, err) = tridist(&["poses", &a, &a, "--protocol", "spiral"], "");
+    assert_eq!(code, 2, "{err}");
+}

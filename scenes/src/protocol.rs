@@ -276,8 +276,9 @@ pub fn mesh_gap(
 /// Near-contact placement `k` of the mesh report (MESH.md, "Near contact at random
 /// orientations") for the base seed `seed`: `b` rotated about a random axis by a random angle
 /// and moved along a random direction until its distance to `a` (both in [-1, 1]^3, `a` at
-/// rest) is `gap`, by bisection on the translation with tridist f64. The pose returned is the
-/// far end of the last bracket, so its distance is at least the gap.
+/// rest) is `gap`, by bisection on the translation with tridist f64, starting where they
+/// overlap (at the origin, or where a vertex of each coincides when they do not overlap there).
+/// The pose returned is the far end of the last bracket, so its distance is at least the gap.
 pub fn near_contact_pose(
     a: &tridist::Mesh<f64>,
     b: &tridist::Mesh<f64>,
@@ -288,9 +289,23 @@ pub fn near_contact_pose(
     let e = tridist::Engine::auto();
     let mut rng = Rng::new(seed ^ 0x6e65_6172 ^ k);
     let (axis, angle, dir) = (rng.dir(), rng.range(0.0, std::f64::consts::TAU), rng.dir());
-    let at = |t: f64| Pose::from_axis_angle(axis, angle, dir.map(|c| c * t)).expect("a unit axis");
-    // both meshes lie in [-1, 1]^3: 4 units apart they are separated in any direction
-    let (mut lo, mut hi) = (0.0, 4.0);
+    let turned = Pose::from_axis_angle(axis, angle, [0.0; 3]).expect("a unit axis");
+    // The bisection needs the meshes closer than the gap at its start: where they overlap at
+    // rest (the report's meshes do), from there; else from where a vertex of each coincides.
+    let base = match (a.triangle(0), b.triangle(0)) {
+        (Some(ta), Some(tb)) if mesh_gap(&e, a, b, &turned)? >= gap => {
+            let v = turned.apply(tb[0]);
+            [0, 1, 2].map(|k| ta[0][k] - v[k])
+        }
+        _ => [0.0; 3],
+    };
+    let at = |t: f64| {
+        Pose::from_axis_angle(axis, angle, [0, 1, 2].map(|k| base[k] + dir[k] * t)).expect("a unit axis")
+    };
+    // Both meshes lie in [-1, 1]^3 (within sqrt(3) of the origin, turned or not): translated
+    // by 4 or more they are separated in any direction.
+    let reach = base.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let (mut lo, mut hi) = (0.0, 4.0 + reach);
     for _ in 0..48 {
         let mid = 0.5 * (lo + hi);
         if mesh_gap(&e, a, b, &at(mid))? < gap {
