@@ -2,7 +2,7 @@
 //! slack, prunes; and how answers are ranked.
 
 use super::scratch::Pending;
-use super::traverse::{check_finite, Search};
+use super::traverse::{check_finite, Axis, Search};
 use super::MeshDistance;
 use crate::algo::nodes::Limit;
 use crate::ClosestPoints;
@@ -50,6 +50,9 @@ pub(super) struct Nearest<T> {
     pub(super) lim: f64,
     /// Triangle pairs answered (for the tests).
     pub(super) answered: usize,
+    /// How many times `best` improved ([`Search::axis`]'s version), and the scene's magnitude.
+    improved: usize,
+    mag: f64,
 }
 
 impl<T: Real> Nearest<T> {
@@ -64,6 +67,8 @@ impl<T: Real> Nearest<T> {
             widen_after: usize::MAX,
             lim: f64::INFINITY,
             answered: 0,
+            improved: 0,
+            mag: 0.0,
         }
     }
 
@@ -126,6 +131,7 @@ impl<T: Real> Search<T> for Nearest<T> {
         Limit::Fixed(self.lim)
     }
     fn start(&mut self, mag: f64) {
+        self.mag = mag;
         self.slack = Self::slack(&self.tol, mag);
         self.wide = Self::width(&self.tol, mag);
     }
@@ -140,6 +146,11 @@ impl<T: Real> Search<T> for Nearest<T> {
     }
     fn best_first(&self) -> bool {
         true
+    }
+    fn axis(&self) -> Option<Axis> {
+        let b = self.best.filter(|_| self.best_d > 0.0)?;
+        let dir = core::array::from_fn(|k| b.q[k].to_f64() - b.p[k].to_f64());
+        Some(Axis { dir, version: self.improved, mag: self.mag })
     }
     fn flush(&mut self, e: &Engine, pend: &Pending<T>) -> Result<bool, Error> {
         self.out.clear();
@@ -157,6 +168,7 @@ impl<T: Real> Search<T> for Nearest<T> {
                 }
             };
             if better {
+                self.improved += 1;
                 self.best_d = d;
                 self.best = Some(MeshDistance {
                     sqdist: cp.sqdist,

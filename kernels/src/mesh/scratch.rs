@@ -28,11 +28,20 @@ impl<T: Real> Pending<T> {
 
     /// Gathers the triangle pairs of two moved leaves whose triangles' boxes are not farther
     /// apart (squared, a lower bound: [`box_gap2`]) than `limit`, tested on `isa`
-    /// ([`crate::algo::nodes::leaf_pairs`]).
-    pub(super) fn push_leaves(&mut self, isa: crate::Isa, la: Leaf<'_, T>, lb: Leaf<'_, T>, limit: f64) {
+    /// ([`crate::algo::nodes::leaf_pairs`]), but for those in `apart` (bit `i * MAX_LEAF + j`
+    /// for triangle `i` of `la` and `j` of `lb`: pairs the searcher knows to be beyond it).
+    pub(super) fn push_leaves(
+        &mut self,
+        isa: crate::Isa,
+        la: Leaf<'_, T>,
+        lb: Leaf<'_, T>,
+        limit: f64,
+        apart: u64,
+    ) {
         let t = LeafTest { a: la.rows, na: la.ids.len(), b: lb.rows, nb: lb.ids.len(), limit };
         let mut near = 0;
         crate::arch::leaf_pairs(isa, &t, &mut near);
+        near &= !apart;
         while near != 0 {
             let k = near.trailing_zeros() as usize;
             near &= near - 1;
