@@ -149,7 +149,7 @@ impl AxisCut {
     /// are the moved ones the kernels answer, exact in `f64`; the projections' own rounding is
     /// within `16 eps S |n|_1` (S the magnitude, every moved coordinate within it).
     fn apart<T: Real>(&self, a: &[Triangle<T>], b: &[Triangle<T>], lim: f64) -> u64 {
-        if !(self.len > 0.0) {
+        if self.len.is_nan() || self.len <= 0.0 {
             return 0;
         }
         let span = |t: &Triangle<T>| {
