@@ -112,7 +112,7 @@ pub fn protocol_md(t: &mut String, s: &Settings, seed: u64) -> Result<String, St
     let budget = s.budget / 2;
     let _ = writeln!(
         t,
-        "## TrueForm's protocol: random placements\n\nMesh distance (closest pair with its points; tridist `mesh_distance`, FCL and Coal `distance` with nearest points, TrueForm `tf::neighbor_search` of two forms) with the second mesh at {n} random rigid placements: a uniformly random rotation about the origin, then a translation uniform in the ball of twice the fixed mesh's bounding-box diagonal (`protocol::ball_placements`, seed {seed}); both meshes scaled to [-1, 1]^3. This is the protocol TrueForm publishes its mesh distance figures with: most placements are separated, where a query spends its time in the trees, not in the triangle kernels. Per placement each contender's time is the median of {} alternated bursts of repeated calls within {:.1} ms in all (as above), one thread, TrueForm also on TBB's default threads (every core) in bursts of its own. Peers: FCL 0.7 (Debian's `libfcl-dev`, the library as shipped), Coal 3.0.3 (the PyPI wheel's `libcoal`; FCL's maintained fork, OBBRSS), TrueForm 0.10.7 (the PyPI wheel's headers, compiled here with `-O3 -march=native`, trees of 4 children and 4 triangles per leaf as its own benchmarks build them; axis-aligned boxes in float as its benchmarks use, axis-aligned and OBBRSS in double). Coal and TrueForm: `bash scenes/peer/install.sh`, then rebuild. Over tridist: the peer's time over tridist's at each placement (above 1: tridist is faster), the median and the worst placement; |Δd|: the largest difference from tridist f64's distance.\n",
+        "## TrueForm's protocol: random placements\n\nMesh distance (closest pair with its points; tridist `mesh_distance`, FCL and Coal `distance` with nearest points, TrueForm `tf::neighbor_search` of two forms) with the second mesh at {n} random rigid placements: a uniformly random rotation about the origin, then a translation uniform in the ball of twice the fixed mesh's bounding-box diagonal (`protocol::ball_placements`, seed {seed}); both meshes scaled to [-1, 1]^3. This is the protocol TrueForm publishes its mesh distance figures with: most placements are separated, where a query spends its time in the trees, not in the triangle kernels. Per placement each contender's time is the median of {} alternated bursts of repeated calls within {:.1} ms in all (as above), one thread, TrueForm also on TBB's default threads (every core) in bursts of its own. Peers: FCL 0.7 (Debian's `libfcl-dev`, the library as shipped), Coal 3.0.3 (the PyPI wheel's `libcoal`; FCL's maintained fork, OBBRSS), TrueForm 0.10.7 (the PyPI wheel's headers, compiled here with `-O3 -march=native`, trees of 4 children and 4 triangles per leaf as its own benchmarks build them; axis-aligned boxes in float as its benchmarks use, axis-aligned and OBBRSS in double). Coal and TrueForm: `bash scenes/peer/install.sh`, then rebuild. Over tridist: the peer's time over tridist's at each placement (above 1: tridist is faster), the median and the worst placement, over the placements where the peer's distance is right; wrong: off tridist f64's (itself checked against an exact brute force by the test suite) by more than 64 u S in the peer's precision, S the scene's magnitude, or not finite; |Δd|: the largest difference from tridist f64's distance among the right ones.\n",
         crate::meshreport::BURSTS,
         budget.as_secs_f64() * 1e3,
     );
@@ -125,43 +125,80 @@ pub fn protocol_md(t: &mut String, s: &Settings, seed: u64) -> Result<String, St
         let separated = cols[1].d.iter().filter(|&&d| d > 0.0).count();
         let _ = writeln!(
             t,
-            "### {} ({} triangles) vs {} ({} triangles)\n\n{separated} of the {n} placements separated.\n\n| library | median ms | mean ms | over tridist f64 (median) | worst | placements where it is faster | over tridist f32 (median) | worst | \\|Δd\\| |\n|---|---|---|---|---|---|---|---|---|",
+            "### {} ({} triangles) vs {} ({} triangles)\n\n{separated} of the {n} placements separated.\n\n| library | median ms | mean ms | over tridist f64 (median) | worst | placements where it is faster | over tridist f32 (median) | worst | wrong distances | \\|Δd\\| of the rest |\n|---|---|---|---|---|---|---|---|---|---|",
             name(fa),
             a.triangles.len(),
             name(fb),
             b.triangles.len(),
         );
+        // a peer's distance is wrong where it is off tridist f64's by more than 64 u S in the
+        // peer's precision (S: the moved meshes' magnitude); its times are compared on the
+        // placements it answered right
+        let mags: Vec<f64> = poses
+            .iter()
+            .map(|p| 3f64.sqrt() + p.translation.iter().fold(0.0f64, |m, t| m.max(t.abs())))
+            .collect();
         let mut line = Vec::new();
         for c in &cols {
             if let Some(how) = c.missing {
-                let _ = writeln!(t, "| {} | not built ({how}) | | | | | | | |", c.name);
+                let _ = writeln!(t, "| {} | not built ({how}) | | | | | | | | |", c.name);
                 continue;
             }
-            let over = |k: usize| -> Vec<f64> { c.t.iter().zip(&cols[k].t).map(|(p, q)| p / q).collect() };
+            let u = if c.name.contains("float") || c.name.ends_with("f32") {
+                f32::EPSILON as f64 / 2.0
+            } else {
+                f64::EPSILON / 2.0
+            };
+            let right: Vec<bool> =
+                c.d.iter()
+                    .zip(&cols[1].d)
+                    .zip(&mags)
+                    .map(|((x, y), s)| (x - y).abs() <= 64.0 * u * s)
+                    .collect();
+            let wrong = right.iter().filter(|r| !**r).count();
+            let over = |k: usize| -> Vec<f64> {
+                c.t.iter().zip(&cols[k].t).zip(&right).filter(|(_, r)| **r).map(|((p, q), _)| p / q).collect()
+            };
             let (o64, o32) = (over(1), over(0));
-            let worst = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+            let worst = |v: &[f64]| {
+                if v.is_empty() {
+                    f64::NAN
+                } else {
+                    v.iter().copied().fold(f64::INFINITY, f64::min)
+                }
+            };
+            let med = |v: &[f64]| if v.is_empty() { f64::NAN } else { crate::common::median(v.to_vec()) };
             let faster = o64.iter().filter(|&&r| r < 1.0).count();
-            let dd = c.d.iter().zip(&cols[1].d).map(|(x, y)| (x - y).abs()).fold(0.0f64, f64::max);
+            let dd =
+                c.d.iter()
+                    .zip(&cols[1].d)
+                    .zip(&right)
+                    .filter(|(_, r)| **r)
+                    .map(|((x, y), _)| (x - y).abs())
+                    .fold(0.0f64, f64::max);
             let own = c.name.starts_with("tridist");
+            let cell = |x: String| if own { "-".to_string() } else { x };
             let _ = writeln!(
                 t,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {:.1e} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1e} |",
                 c.name,
                 ms(crate::common::median(c.t.clone())),
                 ms(c.t.iter().sum::<f64>() / c.t.len() as f64),
-                if own { "-".into() } else { ratio(crate::common::median(o64.clone()), 2) },
-                if own { "-".into() } else { ratio(worst(&o64), 2) },
-                if own { "-".into() } else { format!("{faster} of {n}") },
-                if own { "-".into() } else { ratio(crate::common::median(o32.clone()), 2) },
-                if own { "-".into() } else { ratio(worst(&o32), 2) },
+                cell(ratio(med(&o64), 2)),
+                cell(ratio(worst(&o64), 2)),
+                cell(format!("{faster} of {}", o64.len())),
+                cell(ratio(med(&o32), 2)),
+                cell(ratio(worst(&o32), 2)),
+                cell(format!("{wrong} of {n}")),
                 dd
             );
             if !own {
                 let w = ratio(worst(&o64), 2);
+                let bad = if wrong > 0 { format!(", {wrong} of {n} distances wrong") } else { String::new() };
                 line.push(format!(
-                    "{} {} (worst {w})",
+                    "{} {} (worst {w}{bad})",
                     c.name.replace(", one thread", ""),
-                    ratio(crate::common::median(o64), 2)
+                    ratio(med(&o64), 2)
                 ));
             }
         }
