@@ -4,7 +4,7 @@
 //! default threads), per placement, in the same run.
 
 use std::fmt::Write as _;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use tridist::{Engine, Mesh, Pose, Real};
 use tridist_scenes::mesh::Mesh as SceneMesh;
@@ -20,6 +20,8 @@ const PAIRS: [(&str, &str); 2] = [("armadillo.off", "armadillo.off"), ("armadill
 /// One contender's distance and time (seconds) per placement.
 struct Column {
     name: String,
+    /// Seconds to build both meshes' trees (one build; NaN where the column reuses another's).
+    build: f64,
     /// Why it was not measured, when it was not.
     missing: Option<&'static str>,
     d: Vec<f64>,
@@ -28,7 +30,7 @@ struct Column {
 
 impl Column {
     fn new(name: &str) -> Column {
-        Column { name: name.into(), missing: None, d: Vec::new(), t: Vec::new() }
+        Column { name: name.into(), build: f64::NAN, missing: None, d: Vec::new(), t: Vec::new() }
     }
 }
 
@@ -44,20 +46,32 @@ fn measure(
     b: &SceneMesh,
     poses: &[Pose<f64>],
     budget: Duration,
+    libs: &[MeshLib],
 ) -> Result<Vec<Column>, String> {
     let e = Engine::auto();
-    let (a32, b32, a64, b64) = (mesh::<f32>(a)?, mesh::<f32>(b)?, mesh::<f64>(a)?, mesh::<f64>(b)?);
-    let peers: Vec<(MeshLib, Option<(MeshPeer, MeshPeer)>)> = MeshLib::ALL
-        .iter()
-        .map(|&l| {
-            (l, MeshPeer::new(l, &a.vertices, &a.triangles).zip(MeshPeer::new(l, &b.vertices, &b.triangles)))
-        })
-        .collect();
+    let timed = |f: &mut dyn FnMut()| {
+        let t0 = Instant::now();
+        f();
+        t0.elapsed().as_secs_f64()
+    };
+    let (mut m32, mut m64) = (None, None);
+    let b32 = timed(&mut || m32 = Some((mesh::<f32>(a), mesh::<f32>(b))));
+    let b64 = timed(&mut || m64 = Some((mesh::<f64>(a), mesh::<f64>(b))));
+    let ((a32, b32m), (a64, b64m)) = (m32.ok_or("no build")?, m64.ok_or("no build")?);
+    let (a32, b32m, a64, b64m) = (a32?, b32m?, a64?, b64m?);
     let mut cols = vec![Column::new("tridist f32"), Column::new("tridist f64")];
-    for (l, m) in &peers {
+    (cols[0].build, cols[1].build) = (b32, b64);
+    let mut peers: Vec<(MeshLib, Option<(MeshPeer, MeshPeer)>)> = Vec::new();
+    for &l in libs {
+        let mut m = None;
+        let secs = timed(&mut || {
+            m = MeshPeer::new(l, &a.vertices, &a.triangles).zip(MeshPeer::new(l, &b.vertices, &b.triangles))
+        });
         let mut c = Column::new(&format!("{}, one thread", l.name()));
         c.missing = m.is_none().then(|| l.how_to_get());
+        c.build = secs;
         cols.push(c);
+        peers.push((l, m));
     }
     let tf = MeshLib::TrueFormAabbF32;
     let tf_models = peers.iter().find(|(l, _)| *l == tf).and_then(|(_, m)| m.as_ref());
@@ -73,8 +87,8 @@ fn measure(
             let (d_t, d_p) = d.split_at_mut(2);
             let [d32, d64] = d_t else { unreachable!("two tridist columns") };
             let mut fs: Vec<Box<dyn FnMut() + '_>> = vec![
-                Box::new(|| *d32 = distance(&e, &a32, &b32, &p32)),
-                Box::new(|| *d64 = distance(&e, &a64, &b64, &p64)),
+                Box::new(|| *d32 = distance(&e, &a32, &b32m, &p32)),
+                Box::new(|| *d64 = distance(&e, &a64, &b64m, &p64)),
             ];
             for ((_, m), slot) in peers.iter().zip(d_p.iter_mut()) {
                 if let Some((ma, mb)) = m {
@@ -112,7 +126,7 @@ pub fn protocol_md(t: &mut String, s: &Settings, seed: u64) -> Result<String, St
     let budget = s.budget / 2;
     let _ = writeln!(
         t,
-        "## TrueForm's protocol: random placements\n\nMesh distance (closest pair with its points; tridist `mesh_distance`, FCL and Coal `distance` with nearest points, TrueForm `tf::neighbor_search` of two forms) with the second mesh at {n} random rigid placements: a uniformly random rotation about the origin, then a translation uniform in the ball of twice the fixed mesh's bounding-box diagonal (`protocol::ball_placements`, seed {seed}); both meshes scaled to [-1, 1]^3. This is the protocol TrueForm publishes its mesh distance figures with: most placements are separated, where a query spends its time in the trees, not in the triangle kernels. Per placement each contender's time is the median of {} alternated bursts of repeated calls within {:.1} ms in all (as above), one thread, TrueForm also on TBB's default threads (every core) in bursts of its own. Peers: FCL 0.7 (Debian's `libfcl-dev`, the library as shipped), Coal 3.0.3 (the PyPI wheel's `libcoal`; FCL's maintained fork, OBBRSS), TrueForm 0.10.7 (the PyPI wheel's headers, compiled here with `-O3 -march=native`, trees of 4 children and 4 triangles per leaf as its own benchmarks build them; axis-aligned boxes in float as its benchmarks use, axis-aligned and OBBRSS in double). Coal and TrueForm: `bash scenes/peer/install.sh`, then rebuild. Over tridist: the peer's time over tridist's at each placement (above 1: tridist is faster), the median and the worst placement, over the placements where the peer's distance is right; wrong: off tridist f64's (itself checked against an exact brute force by the test suite) by more than 64 u S in the peer's precision, S the scene's magnitude, or not finite; |Δd|: the largest difference from tridist f64's distance among the right ones.\n",
+        "## TrueForm's protocol: random placements\n\nMesh distance (closest pair with its points; tridist `mesh_distance`, FCL and Coal `distance` with nearest points, TrueForm `tf::neighbor_search` of two forms) with the second mesh at {n} random rigid placements: a uniformly random rotation about the origin, then a translation uniform in the ball of twice the fixed mesh's bounding-box diagonal (`protocol::ball_placements`, seed {seed}); both meshes scaled to [-1, 1]^3. This is the protocol TrueForm publishes its mesh distance figures with: most placements are separated, where a query spends its time in the trees, not in the triangle kernels. Per placement each contender's time is the median of {} alternated bursts of repeated calls within {:.1} ms in all (as above), one thread, TrueForm also on TBB's default threads (every core) in bursts of its own. Peers: FCL 0.7 (Debian's `libfcl-dev`, the library as shipped), Coal 3.0.3 (the PyPI wheel's `libcoal`; FCL's maintained fork, OBBRSS), TrueForm 0.10.7 (the PyPI wheel's headers, compiled here with `-O3 -march=native`, trees of 4 children and 4 triangles per leaf as its own benchmarks build them; axis-aligned boxes in float as its benchmarks use, axis-aligned and OBBRSS in double). Coal and TrueForm: `bash scenes/peer/install.sh`, then rebuild. Over tridist: the peer's time over tridist's at each placement (above 1: tridist is faster), the median and the worst placement, over the placements where the peer's distance is right; wrong: off tridist f64's (itself checked against an exact brute force by the test suite) by more than 64 u S in the peer's precision, S the scene's magnitude, or not finite; |Δd|: the largest difference from tridist f64's distance among the right ones; build: both meshes' trees, one build each (the tables above time tridist's builds in rounds).\n",
         crate::meshreport::BURSTS,
         budget.as_secs_f64() * 1e3,
     );
@@ -120,88 +134,18 @@ pub fn protocol_md(t: &mut String, s: &Settings, seed: u64) -> Result<String, St
     for (fa, fb) in PAIRS {
         let (a, b) = (carried_normalised(fa)?, carried_normalised(fb)?);
         let poses = ball_placements(n, ball_radius(&a), seed);
-        let cols = measure(&a, &b, &poses, budget)?;
+        let cols = measure(&a, &b, &poses, budget, &MeshLib::ALL)?;
         let name = |f: &str| f.trim_end_matches(".off").trim_end_matches("_large").to_string();
         let separated = cols[1].d.iter().filter(|&&d| d > 0.0).count();
         let _ = writeln!(
             t,
-            "### {} ({} triangles) vs {} ({} triangles)\n\n{separated} of the {n} placements separated.\n\n| library | median ms | mean ms | over tridist f64 (median) | worst | placements where it is faster | over tridist f32 (median) | worst | wrong distances | \\|Δd\\| of the rest |\n|---|---|---|---|---|---|---|---|---|---|",
+            "### {} ({} triangles) vs {} ({} triangles)\n\n{separated} of the {n} placements separated.\n\n| library | median ms | mean ms | over tridist f64 (median) | worst | placements where it is faster | over tridist f32 (median) | worst | wrong distances | \\|Δd\\| of the rest | build ms |\n|---|---|---|---|---|---|---|---|---|---|---|",
             name(fa),
             a.triangles.len(),
             name(fb),
             b.triangles.len(),
         );
-        // a peer's distance is wrong where it is off tridist f64's by more than 64 u S in the
-        // peer's precision (S: the moved meshes' magnitude); its times are compared on the
-        // placements it answered right
-        let mags: Vec<f64> = poses
-            .iter()
-            .map(|p| 3f64.sqrt() + p.translation.iter().fold(0.0f64, |m, t| m.max(t.abs())))
-            .collect();
-        let mut line = Vec::new();
-        for c in &cols {
-            if let Some(how) = c.missing {
-                let _ = writeln!(t, "| {} | not built ({how}) | | | | | | | | |", c.name);
-                continue;
-            }
-            let u = if c.name.contains("float") || c.name.ends_with("f32") {
-                f32::EPSILON as f64 / 2.0
-            } else {
-                f64::EPSILON / 2.0
-            };
-            let right: Vec<bool> =
-                c.d.iter()
-                    .zip(&cols[1].d)
-                    .zip(&mags)
-                    .map(|((x, y), s)| (x - y).abs() <= 64.0 * u * s)
-                    .collect();
-            let wrong = right.iter().filter(|r| !**r).count();
-            let over = |k: usize| -> Vec<f64> {
-                c.t.iter().zip(&cols[k].t).zip(&right).filter(|(_, r)| **r).map(|((p, q), _)| p / q).collect()
-            };
-            let (o64, o32) = (over(1), over(0));
-            let worst = |v: &[f64]| {
-                if v.is_empty() {
-                    f64::NAN
-                } else {
-                    v.iter().copied().fold(f64::INFINITY, f64::min)
-                }
-            };
-            let med = |v: &[f64]| if v.is_empty() { f64::NAN } else { crate::common::median(v.to_vec()) };
-            let faster = o64.iter().filter(|&&r| r < 1.0).count();
-            let dd =
-                c.d.iter()
-                    .zip(&cols[1].d)
-                    .zip(&right)
-                    .filter(|(_, r)| **r)
-                    .map(|((x, y), _)| (x - y).abs())
-                    .fold(0.0f64, f64::max);
-            let own = c.name.starts_with("tridist");
-            let cell = |x: String| if own { "-".to_string() } else { x };
-            let _ = writeln!(
-                t,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1e} |",
-                c.name,
-                ms(crate::common::median(c.t.clone())),
-                ms(c.t.iter().sum::<f64>() / c.t.len() as f64),
-                cell(ratio(med(&o64), 2)),
-                cell(ratio(worst(&o64), 2)),
-                cell(format!("{faster} of {}", o64.len())),
-                cell(ratio(med(&o32), 2)),
-                cell(ratio(worst(&o32), 2)),
-                cell(format!("{wrong} of {n}")),
-                dd
-            );
-            if !own {
-                let w = ratio(worst(&o64), 2);
-                let bad = if wrong > 0 { format!(", {wrong} of {n} distances wrong") } else { String::new() };
-                line.push(format!(
-                    "{} {} (worst {w}{bad})",
-                    c.name.replace(", one thread", ""),
-                    ratio(med(&o64), 2)
-                ));
-            }
-        }
+        let line = rows(t, &cols, &poses);
         let _ = writeln!(t);
         summary.push(format!(
             "{} vs {}: tridist f64 {} ms median per placement; peer time over tridist f64's, median (worst placement): {}",
@@ -212,4 +156,124 @@ pub fn protocol_md(t: &mut String, s: &Settings, seed: u64) -> Result<String, St
         ));
     }
     Ok(format!(" TrueForm's protocol ({n} random placements, one thread): {}.", summary.join("; ")))
+}
+
+/// The table rows of one pair's columns (the header is the caller's), and the README's phrase
+/// per peer.
+fn rows(t: &mut String, cols: &[Column], poses: &[Pose<f64>]) -> Vec<String> {
+    let n = poses.len();
+    // a peer's distance is wrong where it is off tridist f64's by more than 64 u S in the
+    // peer's precision (S: the moved meshes' magnitude); its times are compared on the
+    // placements it answered right
+    let mags: Vec<f64> = poses
+        .iter()
+        .map(|p| 3f64.sqrt() + p.translation.iter().fold(0.0f64, |m, t| m.max(t.abs())))
+        .collect();
+    let mut line = Vec::new();
+    for c in cols {
+        if let Some(how) = c.missing {
+            let _ = writeln!(t, "| {} | not built ({how}) | | | | | | | | | |", c.name);
+            continue;
+        }
+        let u = if c.name.contains("float") || c.name.ends_with("f32") {
+            f32::EPSILON as f64 / 2.0
+        } else {
+            f64::EPSILON / 2.0
+        };
+        let right: Vec<bool> =
+            c.d.iter().zip(&cols[1].d).zip(&mags).map(|((x, y), s)| (x - y).abs() <= 64.0 * u * s).collect();
+        let wrong = right.iter().filter(|r| !**r).count();
+        let over = |k: usize| -> Vec<f64> {
+            c.t.iter().zip(&cols[k].t).zip(&right).filter(|(_, r)| **r).map(|((p, q), _)| p / q).collect()
+        };
+        let (o64, o32) = (over(1), over(0));
+        let worst = |v: &[f64]| {
+            if v.is_empty() {
+                f64::NAN
+            } else {
+                v.iter().copied().fold(f64::INFINITY, f64::min)
+            }
+        };
+        let med = |v: &[f64]| if v.is_empty() { f64::NAN } else { crate::common::median(v.to_vec()) };
+        let faster = o64.iter().filter(|&&r| r < 1.0).count();
+        let dd =
+            c.d.iter()
+                .zip(&cols[1].d)
+                .zip(&right)
+                .filter(|(_, r)| **r)
+                .map(|((x, y), _)| (x - y).abs())
+                .fold(0.0f64, f64::max);
+        let own = c.name.starts_with("tridist");
+        let cell = |x: String| if own { "-".to_string() } else { x };
+        let _ = writeln!(
+            t,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1e} | {} |",
+            c.name,
+            ms(crate::common::median(c.t.clone())),
+            ms(c.t.iter().sum::<f64>() / c.t.len() as f64),
+            cell(ratio(med(&o64), 2)),
+            cell(ratio(worst(&o64), 2)),
+            cell(format!("{faster} of {}", o64.len())),
+            cell(ratio(med(&o32), 2)),
+            cell(ratio(worst(&o32), 2)),
+            cell(format!("{wrong} of {n}")),
+            dd,
+            ms(c.build)
+        );
+        if !own {
+            let w = ratio(worst(&o64), 2);
+            let bad = if wrong > 0 { format!(", {wrong} of {n} distances wrong") } else { String::new() };
+            line.push(format!(
+                "{} {} (worst {w}{bad})",
+                c.name.replace(", one thread", ""),
+                ratio(med(&o64), 2)
+            ));
+        }
+    }
+    line
+}
+
+/// The subdivision levels of the scale section: the Armadillo's 52,000 triangles, 208,000 and
+/// 832,000.
+const LEVELS: [u32; 3] = [0, 1, 2];
+
+/// MESH.md's "Scale" section: TrueForm's protocol on the Armadillo against itself, subdivided
+/// to 208,000 and 832,000 triangles per mesh, build and query per library; its README phrase.
+pub fn scale_md(t: &mut String, s: &Settings, seed: u64) -> Result<String, String> {
+    let n = s.mesh_poses;
+    let budget = s.budget / 4;
+    let _ = writeln!(
+        t,
+        "## Scale: the same protocol at up to 832,000 triangles per mesh\n\nThe Armadillo against itself as above, each triangle split into four at its edges' midpoints once and twice (`Mesh::subdivided`: the same surface, 4 and 16 times the triangles), at the first {n} placements of the protocol; times as above within {:.1} ms per placement in all; one build of each library's trees of both meshes, timed once (single builds of this size vary by a few percent). TrueForm in the configuration of its own benchmarks only (axis-aligned boxes in float).\n",
+        budget.as_secs_f64() * 1e3
+    );
+    let libs = [MeshLib::Fcl, MeshLib::Coal, MeshLib::TrueFormAabbF32];
+    let base = carried_normalised("armadillo.off")?;
+    let poses = ball_placements(n, ball_radius(&base), seed);
+    let mut growth = Vec::new();
+    for level in LEVELS {
+        let a = base.subdivided(level);
+        let cols = measure(&a, &a, &poses, budget, &libs)?;
+        let _ = writeln!(
+            t,
+            "### {} triangles per mesh\n\n| library | median ms | mean ms | over tridist f64 (median) | worst | placements where it is faster | over tridist f32 (median) | worst | wrong distances | \\|Δd\\| of the rest | build ms |\n|---|---|---|---|---|---|---|---|---|---|---|",
+            a.triangles.len()
+        );
+        rows(t, &cols, &poses);
+        let _ = writeln!(t);
+        let coal = cols.iter().find(|c| c.name.starts_with("Coal") && c.missing.is_none());
+        let over = |x: f64, y: f64| ratio(x / y, 2);
+        growth.push(format!(
+            "{} triangles: tridist f64 build {} ms, query {} ms{}",
+            a.triangles.len(),
+            ms(cols[1].build),
+            ms(crate::common::median(cols[1].t.clone())),
+            coal.map_or(String::new(), |c| format!(
+                " (Coal {} and {} of tridist's)",
+                over(c.build, cols[1].build),
+                over(crate::common::median(c.t.clone()), crate::common::median(cols[1].t.clone()))
+            ))
+        ));
+    }
+    Ok(format!(" At scale (the Armadillo subdivided, {n} placements): {}.", growth.join("; ")))
 }

@@ -520,8 +520,8 @@ fn a_small_report_writes_parseable_files() {
     // measured exactly when that peer was built, its distances agreeing with tridist f64's
     // (float within float's rounding of a [-1, 1]^3 scene), on 4 x 3 placements
     let protocol = mesh.split("## TrueForm's protocol").nth(1).expect("the protocol section");
-    let pairs: Vec<&str> =
-        protocol.split("\n### ").skip(1).map(|p| p.split("\n## ").next().unwrap()).collect();
+    let protocol = protocol.split("\n## ").next().unwrap();
+    let pairs: Vec<&str> = protocol.split("\n### ").skip(1).collect();
     assert_eq!(pairs.len(), 2, "{protocol}");
     for pair in pairs {
         let rows: Vec<Vec<&str>> = pair
@@ -554,6 +554,32 @@ fn a_small_report_writes_parseable_files() {
                 assert_eq!(r[5], format!("{} of {}", r[5].split(' ').next().unwrap(), 12 - wrong), "{r:?}");
                 let tol = if r[0].contains("float") { 1e-5 } else { 1e-9 };
                 assert!(num(r[9]) <= tol, "{r:?}: distances disagree");
+            }
+        }
+    }
+    // the scale section: the Armadillo at 52,000, 208,000 and 832,000 triangles per mesh, each
+    // with tridist's two rows and built peers agreeing with it, every build timed
+    let scale = mesh.split("## Scale").nth(1).expect("the scale section").split("\n## ").next().unwrap();
+    let levels: Vec<&str> = scale.split("\n### ").skip(1).collect();
+    assert_eq!(levels.len(), 3, "{scale}");
+    for (level, want) in levels.iter().zip(["52000", "208000", "832000"]) {
+        assert!(level.starts_with(&format!("{want} triangles per mesh")), "{level}");
+        let rows: Vec<Vec<&str>> = level
+            .lines()
+            .filter(|l| l.starts_with("| ") && !l.starts_with("| library"))
+            .map(|l| l.split(" | ").map(|c| c.trim_matches(['|', ' '])).collect())
+            .collect();
+        assert_eq!(rows.len(), 6, "{level}");
+        for r in &rows {
+            if r[1].starts_with("not built") {
+                continue;
+            }
+            assert_eq!(r.len(), 11, "{r:?}");
+            if !r[0].contains("default threads") {
+                assert!(r[10].parse::<f64>().unwrap() > 0.0, "{r:?}: no build time");
+            }
+            if r[0].starts_with("FCL") || r[0].starts_with("Coal") {
+                assert_eq!(r[8], "0 of 3", "{r:?}");
             }
         }
     }

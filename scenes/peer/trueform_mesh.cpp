@@ -81,7 +81,9 @@ struct Model final : Base {
   }
 };
 
-std::unique_ptr<tbb::global_control> threads;
+// Never destroyed at exit: TBB's own statics may be gone by then (the process crashed in its
+// exit handlers when this was a static unique_ptr).
+tbb::global_control* threads = nullptr;
 }  // namespace
 
 // The model of nv vertices and nt triangles, its tree built with 4 children per node and 4
@@ -112,6 +114,6 @@ extern "C" int tridist_trueform_mesh_collide(const void* a, const double* ra, co
 
 // TBB's parallelism for the queries that follow: n threads at most, or TBB's default for 0.
 extern "C" void tridist_trueform_threads(std::uint32_t n) {
-  threads.reset();
-  if (n > 0) threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, n);
+  delete threads;
+  threads = n > 0 ? new tbb::global_control(tbb::global_control::max_allowed_parallelism, n) : nullptr;
 }

@@ -157,6 +157,32 @@ impl Mesh {
         out
     }
 
+    /// The mesh with every triangle split into four at its edges' midpoints, `levels` times
+    /// (a level multiplies the triangles by 4): the same surface, finer, for timing trees at
+    /// sizes the carried meshes do not reach (the Armadillo's 52,000 triangles become 208,000
+    /// and 832,000). An edge shared by two triangles gets one midpoint, so the result is as
+    /// connected as the input; the corners keep their numbers.
+    pub fn subdivided(&self, levels: u32) -> Mesh {
+        let mut m = self.clone();
+        for _ in 0..levels {
+            let mut mid: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::new();
+            let mut tris = Vec::with_capacity(4 * m.triangles.len());
+            for t in &m.triangles {
+                let mut at = |a: u32, b: u32| {
+                    *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                        let (p, q) = (m.vertices[a as usize], m.vertices[b as usize]);
+                        m.vertices.push([0, 1, 2].map(|k| 0.5 * (p[k] + q[k])));
+                        (m.vertices.len() - 1) as u32
+                    })
+                };
+                let (ab, bc, ca) = (at(t[0], t[1]), at(t[1], t[2]), at(t[2], t[0]));
+                tris.extend([[t[0], ab, ca], [ab, t[1], bc], [ca, bc, t[2]], [ab, bc, ca]]);
+            }
+            m.triangles = tris;
+        }
+        m
+    }
+
     /// Largest absolute coordinate.
     pub fn extent(&self) -> f64 {
         self.vertices.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()))
@@ -179,6 +205,39 @@ pub fn carried(name: &str) -> Result<Mesh, Box<dyn std::error::Error + Send + Sy
 
 #[cfg(test)]
 mod tests {
+
+    /// Subdividing keeps a closed surface closed (Euler: V - E + F = 2, every edge in two
+    /// triangles) and its area, and multiplies the triangles by 4 a level.
+    #[test]
+    fn subdivision_keeps_the_surface() {
+        let tet =
+            Mesh::parse_off("OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n")
+                .unwrap();
+        let area = |m: &Mesh| -> f64 {
+            (0..m.triangles.len())
+                .map(|i| {
+                    let [a, b, c] = m.triangle(i);
+                    let (u, v) = ([0, 1, 2].map(|k| b[k] - a[k]), [0, 1, 2].map(|k| c[k] - a[k]));
+                    let x = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+                    0.5 * x.iter().map(|y| y * y).sum::<f64>().sqrt()
+                })
+                .sum()
+        };
+        for (levels, v, f) in [(0, 4, 4), (1, 10, 16), (2, 34, 64)] {
+            let m = tet.subdivided(levels);
+            assert_eq!((m.vertices.len(), m.triangles.len()), (v, f));
+            let mut edges = std::collections::HashMap::new();
+            for t in &m.triangles {
+                for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                    *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+                }
+            }
+            assert!(edges.values().all(|&n| n == 2));
+            assert_eq!(v as i64 - edges.len() as i64 + f as i64, 2);
+            assert!((area(&m) - area(&tet)).abs() < 1e-12);
+        }
+    }
+
     use super::Mesh;
 
     #[test]
