@@ -67,6 +67,10 @@ enum Cmd {
         /// Poses of the mesh trajectory (MESH.md) [default: 12; 2 = the two ends only].
         #[arg(long, value_parser = clap::value_parser!(u32).range(2..=1000), allow_negative_numbers = true)]
         mesh_poses: Option<u32>,
+        /// Largest subdivision of the mesh report's scale section: 0 the Armadillo's 52,000
+        /// triangles per mesh only, 1 up to 208,000, 2 up to 832,000 [default: 2].
+        #[arg(long, value_parser = clap::value_parser!(u32).range(0..=2), allow_negative_numbers = true)]
+        mesh_scale: Option<u32>,
     },
     /// Answer the pairs on stdin with any kernel, or the exact oracle.
     ///
@@ -310,8 +314,8 @@ fn main() -> ExitCode {
         }
     };
     let res = match cli.cmd {
-        Cmd::Report { quick, out, cases, pairs, budget_ms, mesh_poses } => {
-            cmd_report(quick, out, cases, pairs, budget_ms, mesh_poses)
+        Cmd::Report { quick, out, cases, pairs, budget_ms, mesh_poses, mesh_scale } => {
+            cmd_report(quick, out, cases, pairs, budget_ms, mesh_poses, mesh_scale)
         }
         Cmd::Eval(a) => cmd_eval(&a),
         Cmd::Bench(a) => cmd_bench(&a),
@@ -342,6 +346,7 @@ fn cmd_report(
     pairs: Option<u32>,
     budget_ms: Option<u32>,
     mesh_poses: Option<u32>,
+    mesh_scale: Option<u32>,
 ) -> Result<ExitCode, Fail> {
     let pick = |x: Option<u32>, q: u32, full: u32| x.unwrap_or(if quick { q } else { full });
     // the opt-in variants are measured only in a build that compiled them
@@ -350,9 +355,13 @@ fn cmd_report(
         "cargo run --release -p tridist-reports{features} -- report{}",
         if quick { " --quick" } else { "" }
     );
-    for (k, v) in
-        [("--cases", cases), ("--pairs", pairs), ("--budget-ms", budget_ms), ("--mesh-poses", mesh_poses)]
-    {
+    for (k, v) in [
+        ("--cases", cases),
+        ("--pairs", pairs),
+        ("--budget-ms", budget_ms),
+        ("--mesh-poses", mesh_poses),
+        ("--mesh-scale", mesh_scale),
+    ] {
         if let Some(v) = v {
             command.push_str(&format!(" {k} {v}"));
         }
@@ -362,6 +371,7 @@ fn cmd_report(
         pairs: pick(pairs, 4000, 20_000) as usize,
         budget: Duration::from_millis(pick(budget_ms, 60, 400).into()),
         mesh_poses: mesh_poses.unwrap_or(12) as usize,
+        mesh_scale: mesh_scale.unwrap_or(2),
         command,
         readme: out.is_none().then(|| root().join("README.md")),
         out_dir: out.unwrap_or_else(|| root().join("reports")),

@@ -49,6 +49,8 @@ fn measure(
     libs: &[MeshLib],
 ) -> Result<Vec<Column>, String> {
     let e = Engine::auto();
+    // everything one thread, TrueForm's build too (TBB's default until the first call)
+    trueform_threads(1);
     let timed = |f: &mut dyn FnMut()| {
         let t0 = Instant::now();
         f();
@@ -233,25 +235,25 @@ fn rows(t: &mut String, cols: &[Column], poses: &[Pose<f64>]) -> Vec<String> {
     line
 }
 
-/// The subdivision levels of the scale section: the Armadillo's 52,000 triangles, 208,000 and
-/// 832,000.
-const LEVELS: [u32; 3] = [0, 1, 2];
-
 /// MESH.md's "Scale" section: TrueForm's protocol on the Armadillo against itself, subdivided
-/// to 208,000 and 832,000 triangles per mesh, build and query per library; its README phrase.
+/// `Settings::mesh_scale` times (208,000 and 832,000 triangles per mesh), build and query per
+/// library; its README phrase.
 pub fn scale_md(t: &mut String, s: &Settings, seed: u64) -> Result<String, String> {
     let n = s.mesh_poses;
     let budget = s.budget / 4;
-    let _ = writeln!(
-        t,
-        "## Scale: the same protocol at up to 832,000 triangles per mesh\n\nThe Armadillo against itself as above, each triangle split into four at its edges' midpoints once and twice (`Mesh::subdivided`: the same surface, 4 and 16 times the triangles), at the first {n} placements of the protocol; times as above within {:.1} ms per placement in all; one build of each library's trees of both meshes, timed once (single builds of this size vary by a few percent). TrueForm in the configuration of its own benchmarks only (axis-aligned boxes in float).\n",
-        budget.as_secs_f64() * 1e3
-    );
     let libs = [MeshLib::Fcl, MeshLib::Coal, MeshLib::TrueFormAabbF32];
     let base = carried_normalised("armadillo.off")?;
+    let most = base.triangles.len() << (2 * s.mesh_scale);
+    let _ = writeln!(
+        t,
+        "## Scale: the same protocol at up to {most} triangles per mesh\n\nThe Armadillo against itself as above, and each triangle split into four at its edges' midpoints up to {} times (`Mesh::subdivided`: the same surface, 4 times the triangles a level; `--mesh-scale`), at the first {n} placements of the protocol; times as above within {:.1} ms per placement in all; one build of each library's trees of both meshes, timed once (single builds of this size vary by a few percent). TrueForm in the configuration of its own benchmarks only (axis-aligned boxes in float).\n",
+        s.mesh_scale,
+        budget.as_secs_f64() * 1e3
+    );
     let poses = ball_placements(n, ball_radius(&base), seed);
     let mut growth = Vec::new();
-    for level in LEVELS {
+    // the Armadillo's 52,000 triangles, then 208,000 and 832,000 (`--mesh-scale`)
+    for level in 0..=s.mesh_scale {
         let a = base.subdivided(level);
         let cols = measure(&a, &a, &poses, budget, &libs)?;
         let _ = writeln!(

@@ -34,6 +34,8 @@ pub struct Settings {
     pub budget: Duration,
     /// Poses of the mesh trajectory.
     pub mesh_poses: usize,
+    /// Largest subdivision level of the mesh report's scale section.
+    pub mesh_scale: u32,
     /// The command line to print in headers.
     pub command: String,
     /// Where to write.
