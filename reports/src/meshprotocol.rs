@@ -271,7 +271,7 @@ pub fn scale_md(t: &mut String, s: &Settings, seed: u64) -> Result<String, Strin
             ms(cols[1].build),
             ms(crate::common::median(cols[1].t.clone())),
             coal.map_or(String::new(), |c| format!(
-                " (Coal {} and {} of tridist's)",
+                " (Coal's build {} tridist's, its median query time {} tridist's median)",
                 over(c.build, cols[1].build),
                 over(crate::common::median(c.t.clone()), crate::common::median(cols[1].t.clone()))
             ))
