@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use tridist::{Engine, Mesh, Pose, Real};
 use tridist_scenes::mesh::Mesh as SceneMesh;
 use tridist_scenes::mesh_peer::{trueform_threads, MeshLib, MeshPeer};
-use tridist_scenes::protocol::{ball_placements, ball_radius, carried_normalised};
+use tridist_scenes::protocol::{ball_placements, ball_radius, carried_normalised, placed_magnitude};
 
 use crate::meshreport::{bursts_of, mesh, ms, pose_in, ratio};
 use crate::report::Settings;
@@ -84,7 +84,6 @@ fn measure(
     for p in poses {
         let (p32, p64) = (pose_in::<f32>(p), pose_in::<f64>(p));
         let mut d = vec![f64::NAN; cols.len()];
-        trueform_threads(1);
         let t = {
             let (d_t, d_p) = d.split_at_mut(2);
             let [d32, d64] = d_t else { unreachable!("two tridist columns") };
@@ -167,10 +166,7 @@ fn rows(t: &mut String, cols: &[Column], poses: &[Pose<f64>]) -> Vec<String> {
     // a peer's distance is wrong where it is off tridist f64's by more than 64 u S in the
     // peer's precision (S: the moved meshes' magnitude); its times are compared on the
     // placements it answered right
-    let mags: Vec<f64> = poses
-        .iter()
-        .map(|p| 3f64.sqrt() + p.translation.iter().fold(0.0f64, |m, t| m.max(t.abs())))
-        .collect();
+    let mags: Vec<f64> = poses.iter().map(|p| placed_magnitude(p.translation)).collect();
     let mut line = Vec::new();
     for c in cols {
         if let Some(how) = c.missing {

@@ -118,7 +118,7 @@ fn shape_rows<T: Real>(
             // `MESH_DISTANCE_SLACK u S` of the same smallest kernel answer, S at most the pose's
             // largest translation plus sqrt(3) for meshes in [-1, 1]^3)
             let now = (d, hit, c);
-            let mag = 3f64.sqrt() + p.translation.iter().fold(0.0f64, |m, t| m.max(t.to_f64().abs()));
+            let mag = tridist_scenes::protocol::placed_magnitude(p.translation.map(Real::to_f64));
             let slack = Engine::MESH_DISTANCE_SLACK * T::UNIT_ROUNDOFF.to_f64() * mag;
             let apart =
                 |x: f64, y: f64| (x.sqrt() - y.sqrt()).abs().is_nan() || (x.sqrt() - y.sqrt()).abs() > slack;

@@ -145,12 +145,10 @@ pub fn read_poses(text: &str) -> Result<Vec<(String, Pose<f64>)>, String> {
     Ok(out)
 }
 
-/// The pose in precision `T`, or why it cannot be (a number beyond `T`'s range).
+/// The pose in precision `T` ([`crate::meshreport::pose_in`]), or why it cannot be (a number
+/// beyond `T`'s range).
 fn pose_in<T: Real>(label: &str, p: &Pose<f64>) -> Result<Pose<T>, Fail> {
-    let q = Pose {
-        rotation: p.rotation.map(|r| r.map(T::from_f64)),
-        translation: p.translation.map(T::from_f64),
-    };
+    let q = crate::meshreport::pose_in::<T>(p);
     if q.rotation.iter().flatten().chain(&q.translation).any(|x| !x.is_finite()) {
         return Err(Fail(format!("pose {label}: beyond the range of {}", T::PRECISION.name())));
     }

@@ -29,8 +29,8 @@ impl Grouping {
     }
 }
 
-/// The mesh centred and scaled to fit [-1, 1]^3 (its largest side).
-pub fn normalise(m: &mut Mesh) {
+/// The axis-aligned bounding box of the mesh's vertices (lower and upper corners).
+fn bounding_box(m: &Mesh) -> ([f64; 3], [f64; 3]) {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for v in &m.vertices {
@@ -39,6 +39,12 @@ pub fn normalise(m: &mut Mesh) {
             hi[k] = hi[k].max(v[k]);
         }
     }
+    (lo, hi)
+}
+
+/// The mesh centred and scaled to fit [-1, 1]^3 (its largest side).
+pub fn normalise(m: &mut Mesh) {
+    let (lo, hi) = bounding_box(m);
     let c = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
     let s = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max) / 2.0;
     for v in &mut m.vertices {
@@ -348,17 +354,16 @@ pub fn ball_placements(n: usize, radius: f64, seed: u64) -> Vec<Pose<f64>> {
         .collect()
 }
 
+/// A bound of every coordinate of a mesh in [-1, 1]^3 turned rigidly, then moved by
+/// `translation` (within sqrt(3) of the origin once turned): the `S` of the error bounds.
+pub fn placed_magnitude(translation: [f64; 3]) -> f64 {
+    3f64.sqrt() + translation.iter().fold(0.0f64, |m, t| m.max(t.abs()))
+}
+
 /// The radius of [`ball_placements`] for the fixed mesh `m`: twice the diagonal of its
 /// axis-aligned bounding box.
 pub fn ball_radius(m: &Mesh) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for v in &m.vertices {
-        for k in 0..3 {
-            lo[k] = lo[k].min(v[k]);
-            hi[k] = hi[k].max(v[k]);
-        }
-    }
+    let (lo, hi) = bounding_box(m);
     2.0 * (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
 }
 
