@@ -38,6 +38,20 @@ fn main() {
     fcl();
 }
 
+/// The version of the wheel `name` installed in `site` (its `NAME-VERSION.dist-info` folder),
+/// exported to the crate as `env` for the reports' peer tables; "unknown" when not found.
+fn wheel_version(site: &Path, name: &str, env: &str) {
+    let prefix = format!("{name}-");
+    let v = std::fs::read_dir(site)
+        .into_iter()
+        .flatten()
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter_map(|f| Some(f.strip_prefix(&prefix)?.strip_suffix(".dist-info")?.to_string()))
+        .max()
+        .unwrap_or_else(|| "unknown".into());
+    println!("cargo:rustc-env={env}={v}");
+}
+
 /// The site-packages directory of the peers' virtual environment: `TRIDIST_PEERS_SITE`, or the
 /// one `scenes/peer/install.sh` makes under the workspace's `target/peers/venv`.
 fn site_packages() -> Option<PathBuf> {
@@ -98,6 +112,7 @@ fn coal(site: &Path) {
         .status();
     if status.is_ok_and(|s| s.success()) {
         println!("cargo:rustc-env=TRIDIST_COAL_SHIM={}", out.display());
+        wheel_version(site, "coal", "TRIDIST_COAL_VERSION");
         println!("cargo:rustc-cfg=tridist_coal");
     } else {
         println!("cargo:warning=Coal peer not built: the shim did not compile");
@@ -129,6 +144,7 @@ fn trueform(site: &Path) {
         println!("cargo:rustc-link-search=native={}", lib.display());
         println!("cargo:rustc-link-lib=static=tbb");
         println!("cargo:rustc-cfg=tridist_trueform");
+        wheel_version(site, "trueform", "TRIDIST_TRUEFORM_VERSION");
     } else {
         println!("cargo:warning=TrueForm peer not built: the shim did not compile");
     }
@@ -176,6 +192,13 @@ fn fcl() {
     b.flag_if_supported("-O3").flag_if_supported("-march=native").define("FCL_STATIC_DEFINE", None);
     if b.try_compile("tridist_fcl_shim").is_ok() {
         println!("cargo:rustc-cfg=tridist_fcl");
+        // FCL's version, from the `FCL_VERSION` define of the headers compiled in
+        let config = std::fs::read_to_string(fcl.join("fcl/config.h")).unwrap_or_default();
+        let v = config
+            .lines()
+            .find_map(|l| l.strip_prefix("#define FCL_VERSION ")?.trim().strip_prefix('"')?.strip_suffix('"'))
+            .unwrap_or("unknown");
+        println!("cargo:rustc-env=TRIDIST_FCL_VERSION={v}");
     } else {
         println!("cargo:warning=FCL peer not built: the shim did not compile");
         return;

@@ -6,6 +6,11 @@
 //! round-trip decimals), optionally followed by `exact=NUM/DEN`, the oracle's exact squared
 //! distance for the query named in the file's header. Blank lines and `#` lines are comments.
 //!
+//! A case with a non-finite coordinate (`nan`, `inf`) is bad input: its one right answer is
+//! "no distance" (`nan` or `error`; `invalid` or `error` for `intersect`), and any number is
+//! counted wrong. Such cases are judged apart from the families' table (the oracle measures
+//! finite input only) and their wrong answers count as misclassified.
+//!
 //! Answer file: one line per case, in the same order (comments skipped alike), optionally
 //! starting with the case's label (checked: a mismatch is an error, not a silent shift). Then,
 //! for a distance query, the squared distance (`nan`, `inf` and `error` allowed), optionally
@@ -230,6 +235,14 @@ pub(crate) fn cmd_judge(a: &JudgeArgs) -> Result<ExitCode, Fail> {
     }
 }
 
+/// The cases with a non-finite coordinate, and the case-file lines of those answered with a
+/// number.
+#[derive(Default)]
+struct BadInput {
+    cases: usize,
+    wrong: Vec<usize>,
+}
+
 /// The judgement of one family (or the whole file).
 struct Group {
     family: String,
@@ -240,41 +253,54 @@ struct Group {
 
 fn judge_as<T: Float>(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Result<ExitCode, Fail> {
     let (cf, af) = (a.cases.display(), a.answers.display());
-    let mut cases: Vec<Case<T>> = Vec::new();
-    let mut exact: Vec<(usize, Option<Rational>)> = Vec::new();
+    let mut all: Vec<Case<T>> = Vec::new();
+    let mut all_exact: Vec<(usize, Option<Rational>)> = Vec::new();
     for (n, l) in content_lines(cases_text) {
         let (c, e) = parse_case_line_exact::<T>(l).map_err(|e| Fail(format!("{cf}: line {n}: {e}")))?;
-        if !c.a.iter().chain(c.b.iter()).flatten().all(|x| x.is_finite()) {
-            return Err(Fail(format!(
-                "{cf}: line {n}: non-finite coordinate (the oracle judges finite input)"
-            )));
-        }
-        cases.push(c);
-        exact.push((n, e));
+        all.push(c);
+        all_exact.push((n, e));
     }
-    if cases.is_empty() {
+    if all.is_empty() {
         return Err(Fail(format!("{cf}: no cases")));
     }
-    let mut ans: Vec<Answer<T>> = Vec::with_capacity(cases.len());
+    let mut all_ans: Vec<Answer<T>> = Vec::with_capacity(all.len());
     for (n, l) in content_lines(answers_text) {
-        let k = ans.len();
-        let Some(c) = cases.get(k) else {
-            return Err(Fail(format!("{af}: line {n}: more answers than the {} cases", cases.len())));
+        let k = all_ans.len();
+        let Some(c) = all.get(k) else {
+            return Err(Fail(format!("{af}: line {n}: more answers than the {} cases", all.len())));
         };
         let x = parse_answer(l, c, a.query).map_err(|e| {
-            Fail(format!("{af}: line {n}: {e} (answer to case {:?}, {cf} line {})", c.label, exact[k].0))
+            Fail(format!("{af}: line {n}: {e} (answer to case {:?}, {cf} line {})", c.label, all_exact[k].0))
         })?;
-        ans.push(x);
+        all_ans.push(x);
     }
-    if ans.len() < cases.len() {
-        let k = ans.len();
+    if all_ans.len() < all.len() {
+        let k = all_ans.len();
         return Err(Fail(format!(
             "{af}: {} answers for {} cases (the first without an answer is {:?}, {cf} line {})",
             k,
-            cases.len(),
-            cases[k].label,
-            exact[k].0
+            all.len(),
+            all[k].label,
+            all_exact[k].0
         )));
+    }
+    // Bad input (a non-finite coordinate) apart: right only when answered "no distance".
+    let finite = |c: &Case<T>| c.a.iter().chain(c.b.iter()).flatten().all(|x| x.is_finite());
+    let (mut cases, mut exact, mut ans) = (Vec::new(), Vec::new(), Vec::new());
+    let mut bad = BadInput::default();
+    for ((c, e), x) in all.into_iter().zip(all_exact).zip(all_ans) {
+        if finite(&c) {
+            cases.push(c);
+            exact.push(e);
+            ans.push(x);
+        } else {
+            bad.cases += 1;
+            let refused =
+                if a.query.is_verdict() { x.verdict == Intersection::Invalid } else { x.d.is_nan() };
+            if !refused {
+                bad.wrong.push(e.0);
+            }
+        }
     }
     let tr = truth(a.query, &cases);
     for (t, (n, e)) in tr.iter().zip(&exact) {
@@ -334,18 +360,33 @@ fn judge_as<T: Float>(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Re
         let idx: Vec<usize> = (0..cases.len()).collect();
         judge_idx(&idx, "all".into());
     }
-    let total = groups.last().expect("at least one group");
-    let st = &total.stats;
     // (a wrong verdict beyond its allowance is counted once: as misjudged)
-    let misclassified =
-        st.nonfinite + if a.query.is_verdict() { st.misjudged } else { st.contact_misses + st.false_zeros };
-    let excess_ok = a.max_excess.is_none_or(|m| total.stats.max_excess <= m);
+    let (max_excess, mut misclassified) = groups.last().map_or((0.0, 0), |total| {
+        let st = &total.stats;
+        let m = st.nonfinite
+            + if a.query.is_verdict() { st.misjudged } else { st.contact_misses + st.false_zeros };
+        (st.max_excess, m)
+    });
+    misclassified += bad.wrong.len();
+    let excess_ok = a.max_excess.is_none_or(|m| max_excess <= m);
     let pass = excess_ok && misclassified <= a.max_misclassified;
-    out!("{}", table(a.query, T::NAME, &groups));
+    if !groups.is_empty() {
+        out!("{}", table(a.query, T::NAME, &groups));
+    }
+    if bad.cases > 0 {
+        let lines: Vec<String> = bad.wrong.iter().take(10).map(|n| n.to_string()).collect();
+        outln!(
+            "\nbad input (a non-finite coordinate): {} cases, {} answered with a number instead of {}{}",
+            bad.cases,
+            bad.wrong.len(),
+            if a.query.is_verdict() { "invalid or error" } else { "nan or error" },
+            if lines.is_empty() { String::new() } else { format!(" ({cf} lines {})", lines.join(", ")) }
+        );
+    }
     outln!(
         "\n{}: max E {} (limit {}), misclassified or non-finite {misclassified} (limit {})",
         if pass { "PASS" } else { "FAIL" },
-        crate::common::fmt(total.stats.max_excess),
+        crate::common::fmt(max_excess),
         a.max_excess.map_or("none".into(), crate::common::fmt),
         a.max_misclassified
     );
@@ -353,8 +394,9 @@ fn judge_as<T: Float>(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Re
         let v = json!({
             "query": a.query.name(),
             "precision": T::NAME,
-            "cases": cases.len(),
+            "cases": cases.len() + bad.cases,
             "families": groups.iter().map(group_json).collect::<Vec<_>>(),
+            "bad_input": { "cases": bad.cases, "answered_with_a_number": bad.wrong.len(), "lines": bad.wrong },
             "max_excess_limit": a.max_excess,
             "max_misclassified_limit": a.max_misclassified,
             "pass": pass,

@@ -13,6 +13,7 @@ mod judge;
 mod meshcmd;
 mod meshprotocol;
 mod meshreport;
+mod peers;
 mod plot;
 mod posescmd;
 mod report;
@@ -98,6 +99,12 @@ enum Cmd {
     /// per-family table of the reports. Exit status 1 when a limit is exceeded, 3 on a
     /// malformed or misaligned file (with its line number).
     Judge(judge::JudgeArgs),
+    /// Judge every peer built in, and tridist, on the committed corpus: reports/PEERS.md.
+    ///
+    /// The conformance table: each library's triangle distance, in each precision and
+    /// configuration it offers, answers corpus/ (the input families with exact answers, and
+    /// bad input), judged against the exact answers; every failure named by file and line.
+    Peers(peers::PeersArgs),
     /// Distance, intersection, contacts and closest point of two meshes (OFF) in poses.
     ///
     /// Builds each mesh's tree once and runs the mesh queries, the batch kernels doing the
@@ -188,8 +195,8 @@ struct EvalArgs {
     /// Append the closest points `px py pz qx qy qz` (distance queries).
     #[arg(long)]
     points: bool,
-    /// Answer with a peer's triangle-triangle distance instead (parry3d, fcl), squared in the
-    /// input precision.
+    /// Answer with a peer's triangle-triangle distance instead (parry3d, fcl, coal, trueform),
+    /// squared in the input precision.
     #[arg(long, value_parser = parse_peer)]
     peer: Option<Lib>,
     /// List every kernel, variant and precision this CPU runs, then exit.
@@ -212,7 +219,8 @@ struct BenchArgs {
         allow_negative_numbers = true,
     )]
     reps: u32,
-    /// Time a peer's triangle-triangle distance on the same pairs instead (parry3d, fcl).
+    /// Time a peer's triangle-triangle distance on the same pairs instead (parry3d, fcl; coal and
+    /// trueform are judged only).
     #[arg(long, value_parser = parse_peer)]
     peer: Option<Lib>,
 }
@@ -258,7 +266,10 @@ pub(crate) fn parse_variant(s: &str) -> Result<Variant, String> {
 }
 
 fn parse_peer(s: &str) -> Result<Lib, String> {
-    Lib::ALL.into_iter().find(|l| l.name() == s).ok_or_else(|| "unknown peer (parry3d, fcl)".into())
+    Lib::JUDGED
+        .into_iter()
+        .find(|l| l.name() == s)
+        .ok_or_else(|| "unknown peer (parry3d, fcl, coal, trueform)".into())
 }
 
 fn positive(s: &str) -> Result<f64, String> {
@@ -321,6 +332,7 @@ fn main() -> ExitCode {
         Cmd::Bench(a) => cmd_bench(&a),
         Cmd::Cases(a) => judge::cmd_cases(&a),
         Cmd::Judge(a) => judge::cmd_judge(&a),
+        Cmd::Peers(a) => peers::cmd_peers(&a),
         Cmd::Mesh(a) => meshcmd::cmd_mesh(&a),
         Cmd::Poses(a) => posescmd::cmd_poses(&a),
         Cmd::Advise { scale, tolerance, query, csv } => cmd_advise(scale, tolerance, query, csv),
@@ -491,6 +503,13 @@ fn peer_lines<T: peer::Peer>(lib: Lib, q: Query, cases: &[Case<T>]) -> Result<Ve
     if !lib.available() {
         return Err(Fail(format!("{} is not built in: {}", lib.name(), lib.missing_reason())));
     }
+    if !lib.offers::<T>() {
+        return Err(Fail(format!(
+            "{} does not compute in {} (its library is built for double)",
+            lib.name(),
+            T::NAME
+        )));
+    }
     let ta: Vec<_> = cases.iter().map(|c| c.a).collect();
     let tb: Vec<_> = cases.iter().map(|c| c.b).collect();
     let mut d = vec![T::ZERO; cases.len()];
@@ -617,6 +636,12 @@ fn bench_as<T: peer::Peer>(text: &str, a: &BenchArgs) -> Result<ExitCode, Fail> 
         t[t.len() / 2]
     };
     if let Some(lib) = a.peer {
+        if !Lib::ALL.contains(&lib) {
+            return Err(Fail(format!(
+                "{} answers triangle pairs through two one-triangle meshes: judged (eval), not timed",
+                lib.name()
+            )));
+        }
         if !lib.available() {
             return Err(Fail(format!("{} is not built in: {}", lib.name(), lib.missing_reason())));
         }

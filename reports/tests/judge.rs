@@ -263,3 +263,51 @@ fn malformed_and_misaligned_answers_are_line_numbered_errors() {
     assert_eq!(code, 3);
     assert!(err.contains("line 1") && err.contains("intersecting, disjoint"), "{err}");
 }
+
+/// Bad input in a case file (a NaN or infinite coordinate) is judged, not refused: "no
+/// distance" (`nan`, `error`; `invalid` for verdicts) is right, any number is wrong and named by
+/// the case file's line; the finite cases are judged as before. A file of bad input only works.
+#[test]
+fn bad_input_in_a_case_file_is_judged() {
+    let d = dir("bad-input");
+    let bad = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../corpus/triangle/bad_input.cases"),
+    )
+    .unwrap();
+    let n_bad = bad.lines().filter(|l| !l.trim().is_empty() && !l.starts_with('#')).count();
+    assert!(n_bad >= 8);
+    let finite = cases("random", 3, 5, "f64", &[]);
+    let text = format!("{finite}{bad}");
+    let exact: Vec<String> = {
+        let (_, o, _) = tridist(&["eval", "--kernel", "oracle"], &finite);
+        o.lines().map(|l| l.split(' ').nth(1).unwrap().to_string()).collect()
+    };
+    let right = format!("{}\n{}", exact.join("\n"), vec!["nan"; n_bad].join("\n"));
+    let (code, out, err, json) = judge(&text, &right, "f64", &[], &d);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(
+        out.contains(&format!("bad input (a non-finite coordinate): {n_bad} cases, 0 answered")),
+        "{out}"
+    );
+    let j = json.unwrap();
+    assert_eq!(j["cases"], 3 + n_bad as u64);
+    assert_eq!(j["bad_input"]["answered_with_a_number"], 0);
+    // one bad case answered with a number: wrong, and its case-file line is named
+    let mut answers: Vec<String> = right.lines().map(String::from).collect();
+    answers[3 + 2] = "4".into();
+    let (code, out, _, json) = judge(&text, &answers.join("\n"), "f64", &[], &d);
+    assert_eq!(code, 1, "{out}");
+    let line = finite.lines().count()
+        + bad.lines().position(|l| l.starts_with("bad_input/nan_everywhere")).unwrap()
+        + 1;
+    assert_eq!(json.unwrap()["bad_input"]["lines"][0], line as u64, "{out}");
+    assert!(out.contains(&format!("lines {line})")), "{out}");
+    // bad input only, verdicts
+    let verdicts = vec!["invalid"; n_bad].join("\n");
+    let (code, out, err, _) = judge(&bad, &verdicts, "f32", &["--query", "intersect"], &d);
+    assert_eq!(code, 0, "{out}{err}");
+    let (code, out, _, _) =
+        judge(&bad, &vec!["disjoint"; n_bad].join("\n"), "f32", &["--query", "intersect"], &d);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains(&format!("{n_bad} answered with a number instead of invalid or error")), "{out}");
+}

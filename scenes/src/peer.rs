@@ -7,6 +7,12 @@
 //!   `-O3 -march=native` by `build.rs`), float and double: the fastest peer a C++ user would
 //!   pick. Present when its headers were found at build time (`cfg(tridist_fcl)`; Debian:
 //!   `apt-get install libfcl-dev libeigen3-dev`); [`Lib::available`] says.
+//!
+//! Judged only (the conformance table, `tridist peers`), through their mesh query on two
+//! one-triangle meshes, since neither offers a triangle-triangle distance of its own in its
+//! public C++ API but computes one per pair of leaves: Coal (`BVHModel<OBBRSS>`, double only)
+//! and TrueForm (`tf::neighbor_search`, float and double). Present when built
+//! ([`crate::mesh_peer`]).
 
 use std::time::Duration;
 
@@ -15,6 +21,7 @@ use tridist::{Engine, Intersection, Interval, Isa, PathCounts, Query, Triangle};
 use crate::eval::{summarise, truth, Output, Stats};
 use crate::families::{generate, Case};
 use crate::float::Float;
+use crate::mesh_peer::{MeshLib, MeshPeer};
 use crate::Family;
 
 /// A precision parry has a crate for.
@@ -95,16 +102,24 @@ pub enum Lib {
     Parry,
     /// FCL (C++), when built.
     Fcl,
+    /// Coal (C++, double only), when built: judged, not timed.
+    Coal,
+    /// TrueForm (C++, float and double), when built: judged, not timed.
+    TrueForm,
 }
 
 impl Lib {
-    /// Every peer, available or not.
+    /// The peers the reports time and judge, available or not.
     pub const ALL: [Lib; 2] = [Lib::Parry, Lib::Fcl];
-    /// Name in tables.
+    /// Every peer the conformance table judges, available or not.
+    pub const JUDGED: [Lib; 4] = [Lib::Parry, Lib::Fcl, Lib::Coal, Lib::TrueForm];
+    /// Name in tables and on the command line.
     pub fn name(self) -> &'static str {
         match self {
             Lib::Parry => "parry3d",
             Lib::Fcl => "fcl",
+            Lib::Coal => "coal",
+            Lib::TrueForm => "trueform",
         }
     }
     /// Was it built into this binary?
@@ -112,6 +127,36 @@ impl Lib {
         match self {
             Lib::Parry => true,
             Lib::Fcl => cfg!(tridist_fcl),
+            Lib::Coal => MeshLib::Coal.available(),
+            Lib::TrueForm => MeshLib::TrueFormAabbF64.available(),
+        }
+    }
+    /// Whether the library computes in `T` (Coal is built for double only).
+    pub fn offers<T: Float>(self) -> bool {
+        self != Lib::Coal || T::NAME == "f64"
+    }
+    /// The version built in ("unknown" when not built or not found).
+    pub fn version(self) -> &'static str {
+        let v = match self {
+            // the workspace's Cargo.toml pins it
+            Lib::Parry => Some("0.31"),
+            Lib::Fcl => option_env!("TRIDIST_FCL_VERSION"),
+            Lib::Coal => option_env!("TRIDIST_COAL_VERSION"),
+            Lib::TrueForm => option_env!("TRIDIST_TRUEFORM_VERSION"),
+        };
+        v.unwrap_or("unknown")
+    }
+    /// The public API judged, in `T`'s words (float or double for the C++ peers).
+    pub fn configuration<T: Float>(self) -> &'static str {
+        let single = T::NAME == "f32";
+        match (self, single) {
+            (Lib::Parry, true) => "parry3d `query::distance`, two `Triangle` shapes (GJK)",
+            (Lib::Parry, false) => "parry3d-f64 `query::distance`, two `Triangle` shapes (GJK)",
+            (Lib::Fcl, true) => "`TriangleDistance<float>` (PQP's TriDist, header-only)",
+            (Lib::Fcl, false) => "`TriangleDistance<double>` (PQP's TriDist, header-only)",
+            (Lib::Coal, _) => "`coal::distance` of two one-triangle `BVHModel<OBBRSS>`",
+            (Lib::TrueForm, true) => "`tf::neighbor_search` of two one-triangle forms, float AABB trees",
+            (Lib::TrueForm, false) => "`tf::neighbor_search` of two one-triangle forms, double AABB trees",
         }
     }
     /// Why it is missing, for reports.
@@ -119,6 +164,16 @@ impl Lib {
         match self {
             Lib::Parry => "",
             Lib::Fcl => "FCL headers were not found at build time (apt-get install libfcl-dev libeigen3-dev, then rebuild)",
+            Lib::Coal | Lib::TrueForm => "its wheel was not found at build time (bash scenes/peer/install.sh, then rebuild)",
+        }
+    }
+    /// The mesh peer answering for this library in `T` (Coal and TrueForm).
+    fn mesh_lib<T: Float>(self) -> Option<MeshLib> {
+        match self {
+            Lib::Coal => Some(MeshLib::Coal),
+            Lib::TrueForm if T::NAME == "f32" => Some(MeshLib::TrueFormAabbF32),
+            Lib::TrueForm => Some(MeshLib::TrueFormAabbF64),
+            Lib::Parry | Lib::Fcl => None,
         }
     }
 }
@@ -149,7 +204,7 @@ impl<T: Peer> Shapes<T> {
                 fa: vec![],
                 fb: vec![],
             },
-            Lib::Fcl => Shapes {
+            Lib::Fcl | Lib::Coal | Lib::TrueForm => Shapes {
                 lib,
                 a: vec![],
                 b: vec![],
@@ -163,7 +218,7 @@ impl<T: Peer> Shapes<T> {
     pub fn len(&self) -> usize {
         match self.lib {
             Lib::Parry => self.a.len(),
-            Lib::Fcl => self.fa.len() / 9,
+            Lib::Fcl | Lib::Coal | Lib::TrueForm => self.fa.len() / 9,
         }
     }
 
@@ -173,7 +228,8 @@ impl<T: Peer> Shapes<T> {
     }
 
     /// The peer's distances (not squared) into `out` (one per pair); NaN everywhere for a peer
-    /// that was not built.
+    /// that was not built or does not compute in `T`, and for a pair it refuses (Coal and
+    /// TrueForm build no model of a triangle with a non-finite coordinate).
     pub fn distances(&self, out: &mut [T]) {
         match self.lib {
             Lib::Parry => {
@@ -182,6 +238,21 @@ impl<T: Peer> Shapes<T> {
                 }
             }
             Lib::Fcl => T::fcl(&self.fa, &self.fb, out),
+            Lib::Coal | Lib::TrueForm => {
+                let mesh = self.lib.mesh_lib::<T>().filter(|_| self.lib.offers::<T>());
+                let tri = |f: &[T]| -> Vec<[f64; 3]> {
+                    f.chunks_exact(3).map(|p| [p[0].to_f64(), p[1].to_f64(), p[2].to_f64()]).collect()
+                };
+                let id = tridist::Pose::identity();
+                let pairs = self.fa.chunks_exact(9).zip(self.fb.chunks_exact(9));
+                for (o, (a, b)) in out.iter_mut().zip(pairs) {
+                    let model = |t: &[T]| mesh.and_then(|m| MeshPeer::new(m, &tri(t), &[[0, 1, 2]]));
+                    *o = match (model(a), model(b)) {
+                        (Some(ma), Some(mb)) => T::from_f64(ma.distance(&id, &mb, &id)),
+                        _ => T::NAN,
+                    };
+                }
+            }
         }
     }
 }
@@ -299,27 +370,31 @@ pub fn judge<T: Peer>(lib: Lib, family: Family, seed: u64, n: usize) -> Stats {
 
 /// [`judge`] on given cases (their triangle-triangle distance).
 pub fn judge_cases<T: Peer>(lib: Lib, cases: &[Case<T>]) -> Stats {
+    let allow = crate::bounds::VERDICT_ALLOW;
+    let out = answers(lib, cases);
+    let mut st = summarise(Query::TriTri, cases, &truth(Query::TriTri, cases), &out, allow, None).0;
+    st.max_point_error = 0.0;
+    st
+}
+
+/// A peer's triangle-triangle distances of `cases` as the judge reads them: squared in `T`
+/// (at most half an ulp of D more, far below the errors measured), no closest points, no
+/// certificate (the interval that contains everything).
+pub fn answers<T: Peer>(lib: Lib, cases: &[Case<T>]) -> Output<T> {
     let a: Vec<_> = cases.iter().map(|c| c.a).collect();
     let b: Vec<_> = cases.iter().map(|c| c.b).collect();
     let mut d = vec![T::ZERO; cases.len()];
     Shapes::for_lib(lib, &a, &b).distances(&mut d);
-    // The metrics take a squared distance; squaring in T adds at most half an ulp of D, far below
-    // the errors measured.
     let n = cases.len();
-    let out = Output {
+    Output {
         d: d.iter().map(|&x| x * x).collect(),
         p: vec![[T::ZERO; 3]; n],
         q: vec![[T::ZERO; 3]; n],
-        // no certificate: the interval that contains everything
         iv: vec![Interval { lo: T::ZERO, hi: T::INFINITY }; n],
         verdict: vec![Intersection::Invalid; n],
         certified: vec![false; n],
         counts: PathCounts::default(),
-    };
-    let allow = crate::bounds::VERDICT_ALLOW;
-    let mut st = summarise(Query::TriTri, cases, &truth(Query::TriTri, cases), &out, allow, None).0;
-    st.max_point_error = 0.0;
-    st
+    }
 }
 
 #[cfg(test)]
@@ -351,6 +426,34 @@ mod tests {
         let st = judge::<f64>(Lib::Parry, Family::Random, 7, 40);
         assert_eq!(st.n, 40);
         assert!(st.max_excess.is_finite() && st.nonfinite == 0);
+    }
+
+    /// Coal and TrueForm, through one-triangle meshes, answer the question tridist answers
+    /// (when built): the same distances on random pairs, and no answer for bad input.
+    #[test]
+    fn mesh_peers_answer_triangle_pairs_when_built() {
+        for lib in [Lib::Coal, Lib::TrueForm] {
+            if !lib.available() {
+                eprintln!("{}: {}", lib.name(), lib.missing_reason());
+                continue;
+            }
+            let cases: Vec<Case<f64>> = generate(Family::Random, 3, 100);
+            let ca: Vec<_> = cases.iter().map(|c| c.a).collect();
+            let cb: Vec<_> = cases.iter().map(|c| c.b).collect();
+            let (worst, beyond) = agreement(lib, &ca, &cb).unwrap();
+            assert!(beyond == 0 && worst < 1e-9, "{}: {worst} {beyond}", lib.name());
+            let a = [[[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]];
+            let b = [[[0.0f32, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]]];
+            let mut d = [0.0f32];
+            Shapes::for_lib(lib, &a, &b).distances(&mut d);
+            assert_eq!(d[0] == 2.0, lib.offers::<f32>(), "{}: {}", lib.name(), d[0]);
+            assert!(d[0].is_nan() || lib.offers::<f32>());
+            let nan = [[[0.0f64, f64::NAN, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]];
+            let mut d = [0.0f64];
+            Shapes::for_lib(lib, &nan, &[[[0.0f64, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]]])
+                .distances(&mut d);
+            assert!(d[0].is_nan());
+        }
     }
 
     #[test]

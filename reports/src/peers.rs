@@ -1,0 +1,347 @@
+//! `tridist peers`: the conformance table (reports/PEERS.md). Every peer built into this binary,
+//! in each precision and configuration it offers, and tridist's own variants, answer the
+//! committed corpus (corpus/, format in corpus/README.md), judged against the corpus's exact
+//! answers with the metrics of ACCURACY.md. Every failure counted is named by its file and line.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::Args;
+use rug::Rational;
+use tridist::Query;
+use tridist_oracle::metrics::magnitude;
+use tridist_scenes::bounds::VERDICT_ALLOW;
+use tridist_scenes::eval::{parse_case_line_exact, prec, run, summarise, Judged, Output, Truth, Variant};
+use tridist_scenes::float::Float;
+use tridist_scenes::peer::{self, Lib, Peer};
+use tridist_scenes::Case;
+
+use crate::common::{fmt, header};
+use crate::Fail;
+
+/// The excess error E a conforming answer stays within (ACCURACY.md's target).
+const E_TARGET: f64 = 8.0;
+
+/// The command that regenerates PEERS.md (its header names it).
+pub(crate) const COMMAND: &str = "cargo run --release -p tridist-reports --features all-variants -- peers";
+
+#[derive(Args, Debug)]
+pub(crate) struct PeersArgs {
+    /// The corpus's triangle-level folder [default: corpus/triangle].
+    #[arg(long, value_name = "DIR")]
+    corpus: Option<PathBuf>,
+    /// Write the table here [default: reports/PEERS.md].
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+}
+
+/// One case file of the corpus, parsed: the cases, their exact answers and where each is.
+struct Corpus<T> {
+    /// The file as the table names it (relative to the repository when inside it).
+    name: String,
+    cases: Vec<Case<T>>,
+    truth: Vec<Truth>,
+    /// 1-based line of each case.
+    lines: Vec<usize>,
+    /// Family of each case (the label up to its first '/').
+    family: Vec<String>,
+}
+
+impl<T> Corpus<T> {
+    fn at(&self, i: usize) -> String {
+        format!("{}:{}", self.name, self.lines[i])
+    }
+}
+
+/// Reads a case file of the corpus; `exact` says whether every finite case must carry its
+/// exact answer (`exact=NUM/DEN`), and finite and non-finite cases are both kept.
+fn load<T: Float>(path: &Path, shown: String, exact: bool) -> Result<Corpus<T>, Fail> {
+    let text = std::fs::read_to_string(path).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    let mut c = Corpus { name: shown, cases: vec![], truth: vec![], lines: vec![], family: vec![] };
+    for (i, l) in text.lines().enumerate() {
+        let l = l.trim();
+        if l.is_empty() || l.starts_with('#') {
+            continue;
+        }
+        let (case, e) =
+            parse_case_line_exact::<T>(l).map_err(|e| Fail(format!("{}:{}: {e}", c.name, i + 1)))?;
+        let coords = case.a.iter().chain(case.b.iter()).flatten().map(|x| x.to_f64());
+        let d2 = match e {
+            Some(e) => e,
+            None if exact => return Err(Fail(format!("{}:{}: no exact=NUM/DEN answer", c.name, i + 1))),
+            None => Rational::new(),
+        };
+        c.truth.push(Truth { d2, s: magnitude(coords, prec::<T>()) });
+        c.family.push(case.label.split('/').next().unwrap_or("").to_string());
+        c.cases.push(case);
+        c.lines.push(i + 1);
+    }
+    if c.cases.is_empty() {
+        return Err(Fail(format!("{}: no cases", c.name)));
+    }
+    Ok(c)
+}
+
+/// One row of the triangle-level table.
+struct Row {
+    library: String,
+    version: String,
+    configuration: String,
+    precision: &'static str,
+    /// None: not built (the reason).
+    judged: Result<Judgement, String>,
+}
+
+/// What the judge found for one contender in one precision.
+struct Judgement {
+    families: usize,
+    cases: usize,
+    worst: (f64, String),
+    p99: f64,
+    /// Families over E = 8: (family, worst E, where).
+    over: Vec<(String, f64, String)>,
+    false_zeros: Vec<String>,
+    contact_misses: Vec<String>,
+    nonfinite: Vec<String>,
+    /// Bad input answered with a number (where), out of how many; None: not judged.
+    bad_input: Option<(Vec<String>, usize)>,
+}
+
+fn judgement<T: Float>(c: &Corpus<T>, out: &Output<T>, bad: Option<(&Corpus<T>, Vec<T>)>) -> Judgement {
+    let (_, js): (_, Vec<Judged>) = summarise(Query::TriTri, &c.cases, &c.truth, out, VERDICT_ALLOW, None);
+    let e = |j: &Judged| if j.excess.is_nan() { f64::INFINITY } else { j.excess };
+    let mut fams: Vec<&str> = Vec::new();
+    for f in &c.family {
+        if !fams.contains(&f.as_str()) {
+            fams.push(f);
+        }
+    }
+    let over = fams
+        .iter()
+        .filter_map(|f| {
+            let i = (0..js.len())
+                .filter(|&i| c.family[i] == *f)
+                .max_by(|&a, &b| e(&js[a]).total_cmp(&e(&js[b])))?;
+            (e(&js[i]) > E_TARGET).then(|| (f.to_string(), e(&js[i]), c.at(i)))
+        })
+        .collect();
+    let worst = (0..js.len()).max_by(|&a, &b| e(&js[a]).total_cmp(&e(&js[b]))).unwrap_or(0);
+    let mut sorted: Vec<f64> = js.iter().map(e).collect();
+    sorted.sort_by(f64::total_cmp);
+    let p99 = sorted.get(((sorted.len().max(1) - 1) as f64 * 0.99).round() as usize).copied().unwrap_or(0.0);
+    let at = |flag: fn(&Judged) -> bool| -> Vec<String> {
+        (0..js.len()).filter(|&i| flag(&js[i])).map(|i| c.at(i)).collect()
+    };
+    let bad_input = bad.map(|(b, d)| {
+        let wrong = (0..b.cases.len()).filter(|&i| !d[i].is_nan()).map(|i| b.at(i)).collect();
+        (wrong, b.cases.len())
+    });
+    Judgement {
+        families: fams.len(),
+        cases: js.len(),
+        worst: (e(&js[worst]), c.at(worst)),
+        p99,
+        over,
+        false_zeros: at(|j| j.false_zero),
+        contact_misses: at(|j| j.contact_miss),
+        nonfinite: at(|j| j.nonfinite),
+        bad_input,
+    }
+}
+
+/// tridist's variants judged: the portable one, AVX2+FMA (what an AVX2-only CPU runs) and
+/// the best this CPU runs, each once.
+fn tridist_variants() -> Vec<Variant> {
+    let mut v = vec![Variant::Soa, Variant::Avx2Fma];
+    if let Ok(best) = Variant::auto() {
+        v.push(best);
+    }
+    v.retain(|x| x.available());
+    v.dedup();
+    v
+}
+
+fn rows_for<T: Peer>(c: &Corpus<T>, bad: &Corpus<T>) -> Result<Vec<Row>, Fail> {
+    let mut rows = Vec::new();
+    for v in tridist_variants() {
+        let out = run(Query::TriTri, v, &c.cases, None).map_err(|e| Fail(e.to_string()))?;
+        let b = run(Query::TriTri, v, &bad.cases, None).map_err(|e| Fail(e.to_string()))?;
+        rows.push(Row {
+            library: "tridist".into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+            configuration: format!(
+                "`Engine::sqdist_triangle_triangle`, {} variant, default tolerance",
+                v.name()
+            ),
+            precision: T::NAME,
+            judged: Ok(judgement(c, &out, Some((bad, b.d)))),
+        });
+    }
+    for lib in Lib::JUDGED.into_iter().filter(|l| l.offers::<T>()) {
+        let judged = if lib.available() {
+            let out = peer::answers(lib, &c.cases);
+            // Coal and TrueForm are reached through models our adapter builds, and it refuses
+            // non-finite coordinates before the library sees them: their bad input is not judged.
+            let bad_answers =
+                matches!(lib, Lib::Parry | Lib::Fcl).then(|| (bad, peer::answers(lib, &bad.cases).d));
+            Ok(judgement(c, &out, bad_answers))
+        } else {
+            Err(lib.missing_reason().to_string())
+        };
+        rows.push(Row {
+            library: lib.name().into(),
+            version: lib.version().into(),
+            configuration: lib.configuration::<T>().into(),
+            precision: T::NAME,
+            judged,
+        });
+    }
+    Ok(rows)
+}
+
+/// Whether every coordinate of a case is finite.
+fn finite<T: Float>(c: &Case<T>) -> bool {
+    c.a.iter().chain(c.b.iter()).flatten().all(|x| x.is_finite())
+}
+
+/// A list of places, the first few.
+fn places(v: &[String]) -> String {
+    let mut s: Vec<String> = v.iter().take(3).cloned().collect();
+    if v.len() > 3 {
+        s.push(format!("and {} more", v.len() - 3));
+    }
+    s.join(", ")
+}
+
+fn count(v: &[String]) -> String {
+    v.len().to_string()
+}
+
+fn table(rows: &[Row]) -> String {
+    let mut s = String::from(
+        "| library | version | configuration | precision | families | cases | worst E | p99 E | families over E = 8 | false zeros | contact misses | non-finite on finite input | bad input answered with a number |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        let head = format!("| {} | {} | {} | {} ", r.library, r.version, r.configuration, r.precision);
+        match &r.judged {
+            Err(why) => {
+                let _ = writeln!(s, "{head}| not built: {why} | | | | | | | | |");
+            }
+            Ok(j) => {
+                let _ = writeln!(
+                    s,
+                    "{head}| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                    j.families,
+                    j.cases,
+                    fmt(j.worst.0),
+                    fmt(j.p99),
+                    j.over.len(),
+                    count(&j.false_zeros),
+                    count(&j.contact_misses),
+                    count(&j.nonfinite),
+                    j.bad_input.as_ref().map_or("not judged".into(), |(w, n)| format!("{} of {n}", w.len())),
+                );
+            }
+        }
+    }
+    s
+}
+
+fn failures(rows: &[Row]) -> String {
+    let mut s = String::new();
+    for r in rows {
+        let Ok(j) = &r.judged else { continue };
+        let mut items: Vec<String> = Vec::new();
+        items.push(format!("worst E {} at {}", fmt(j.worst.0), j.worst.1));
+        for (f, e, at) in &j.over {
+            items.push(format!("{f}: E {} at {at}", fmt(*e)));
+        }
+        for (what, v) in [
+            ("false zeros", &j.false_zeros),
+            ("contact misses", &j.contact_misses),
+            ("non-finite", &j.nonfinite),
+        ] {
+            if !v.is_empty() {
+                items.push(format!("{what}: {}", places(v)));
+            }
+        }
+        if let Some((w, _)) = &j.bad_input {
+            if !w.is_empty() {
+                items.push(format!("bad input answered with a number: {}", places(w)));
+            }
+        }
+        let _ =
+            writeln!(s, "- **{} ({}, {})**: {}.", r.library, r.configuration, r.precision, items.join("; "));
+    }
+    s
+}
+
+pub(crate) fn cmd_peers(a: &PeersArgs) -> Result<ExitCode, Fail> {
+    let root = crate::root();
+    let dir = a.corpus.clone().unwrap_or_else(|| root.join("corpus/triangle"));
+    let shown = |f: &str| {
+        let p = dir.join(f);
+        p.strip_prefix(&root).map_or_else(|_| p.display().to_string(), |r| r.display().to_string())
+    };
+    let c32 = load::<f32>(&dir.join("tri_tri.f32.cases"), shown("tri_tri.f32.cases"), true)?;
+    let c64 = load::<f64>(&dir.join("tri_tri.f64.cases"), shown("tri_tri.f64.cases"), true)?;
+    let b32 = load::<f32>(&dir.join("bad_input.cases"), shown("bad_input.cases"), false)?;
+    let b64 = load::<f64>(&dir.join("bad_input.cases"), shown("bad_input.cases"), false)?;
+    if let Some(i) = b64.cases.iter().position(finite) {
+        return Err(Fail(format!("{}: a finite case in the bad-input file", b64.at(i))));
+    }
+    if let Some(i) = c32.cases.iter().position(|c| !finite(c)) {
+        return Err(Fail(format!(
+            "{}: a non-finite coordinate (bad input belongs in bad_input.cases)",
+            c32.at(i)
+        )));
+    }
+    if let Some(i) = c64.cases.iter().position(|c| !finite(c)) {
+        return Err(Fail(format!(
+            "{}: a non-finite coordinate (bad input belongs in bad_input.cases)",
+            c64.at(i)
+        )));
+    }
+    let mut rows = rows_for(&c32, &b32)?;
+    rows.extend(rows_for(&c64, &b64)?);
+    let missing: Vec<&str> = Lib::JUDGED.iter().filter(|l| !l.available()).map(|l| l.name()).collect();
+    let mut s =
+        header("Conformance: every peer judged against the exact oracle", COMMAND, tridist_scenes::seed());
+    let _ = write!(
+        s,
+        "Every library we can install answers the same committed corpus ([corpus/](../corpus/README.md): the \
+         input families of ACCURACY.md, {} pairs in f32 and {} in f64, each with its exact squared distance as a \
+         fraction, and {} pairs with a NaN or infinite coordinate), through its public API, in each precision \
+         and configuration it offers; its answers are judged against the exact ones with the metrics of \
+         [docs/ACCURACY.md](../docs/ACCURACY.md): **E** = |answer - exact distance| / (u S) beyond the \
+         correctly rounded answer (a conforming answer stays within E = {E_TARGET}); *false zeros* (0 reported \
+         for a pair farther apart than 8 u S); *contact misses* (more than 8 u S reported for touching or \
+         intersecting pairs); *non-finite* answers to finite input; and for bad input, an answer that is a \
+         number (the right answer is none: NaN, or an error). Distances only: no peer's closest points are \
+         judged. Every failure below names the case's file and line; `tridist judge --cases FILE` reproduces it \
+         from an answer file (`tridist eval --peer NAME` writes one for each peer built in).\n\n\
+         The C++ peers are optional (how to get them: FCL `apt-get install libfcl-dev libeigen3-dev`; Coal and \
+         TrueForm `bash scenes/peer/install.sh`; then rebuild); {}.\n\n## Triangle level\n\n",
+        c32.cases.len(),
+        c64.cases.len(),
+        b64.cases.len(),
+        if missing.is_empty() {
+            "every one was built into this run".to_string()
+        } else {
+            format!("not built into this run: {}", missing.join(", "))
+        }
+    );
+    s.push_str(&table(&rows));
+    s.push_str("\nWhere each row's worst case is, and every family over E = 8 or failure counted:\n\n");
+    s.push_str(&failures(&rows));
+    s.push_str(
+        "\n## Mesh level\n\nNot judged yet: mesh distances are compared between libraries (MESH.md's \
+         agreement and wrong-distance columns), not against exact answers.\n",
+    );
+    let out = a.out.clone().unwrap_or_else(|| root.join("reports/PEERS.md"));
+    std::fs::write(&out, s).map_err(|e| Fail(format!("{}: {e}", out.display())))?;
+    eprintln!("wrote {}", out.display());
+    Ok(ExitCode::SUCCESS)
+}
