@@ -109,6 +109,11 @@ pub(crate) struct JudgeArgs {
     /// Also write the table as JSON here.
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
+    /// The cases are mesh cases (`tridist mesh-cases`, corpus/mesh): answers are the squared
+    /// distance, optionally followed by the triangle pair `I J`; wrong distances (beyond 64 u S),
+    /// contact misses, false zeros, non-finite answers and wrong pairs count as misclassified.
+    #[arg(long)]
+    mesh: bool,
 }
 
 pub(crate) fn cmd_cases(a: &CasesArgs) -> Result<ExitCode, Fail> {
@@ -229,6 +234,12 @@ fn read(path: &Path) -> Result<String, Fail> {
 pub(crate) fn cmd_judge(a: &JudgeArgs) -> Result<ExitCode, Fail> {
     let cases = read(&a.cases)?;
     let answers = read(&a.answers)?;
+    if a.mesh {
+        if a.query != Query::TriTri {
+            return Err(Fail("--mesh judges mesh distances: no --query".into()));
+        }
+        return judge_mesh_files(&cases, &answers, a);
+    }
     match a.precision {
         Prec::F32 => judge_as::<f32>(&cases, &answers, a),
         Prec::F64 => judge_as::<f64>(&cases, &answers, a),
@@ -475,4 +486,124 @@ fn table(q: Query, prec: &str, groups: &[Group]) -> String {
         );
     }
     s
+}
+
+/// `judge --mesh`: a mesh case file and its answers.
+fn judge_mesh_files(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Result<ExitCode, Fail> {
+    let (cf, af) = (a.cases.display().to_string(), a.answers.display());
+    let cases = crate::meshcases::parse_cases(cases_text, &cf)?;
+    if let Some(c) = cases.iter().find(|c| c.exact.is_none()) {
+        return Err(Fail(format!("{cf}: line {}: no exact=NUM/DEN answer", c.line)));
+    }
+    let dir = a.cases.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    let meshes = crate::meshcases::load_meshes(&cases, &dir)?;
+    let mut ans: Vec<crate::meshcases::MeshAnswer> = Vec::new();
+    for (n, l) in content_lines(answers_text) {
+        let Some(c) = cases.get(ans.len()) else {
+            return Err(Fail(format!("{af}: line {n}: more answers than the {} cases", cases.len())));
+        };
+        let mut t: Vec<&str> = l.split_whitespace().collect();
+        if t.len() > 1 && !is_answer_word(t[0]) {
+            if t[0] != c.label {
+                return Err(Fail(format!("{af}: line {n}: label {:?} but the case is {:?}", t[0], c.label)));
+            }
+            t.remove(0);
+        }
+        let d2 = match t.first().copied() {
+            Some("nan" | "NaN" | "error") => f64::NAN,
+            Some("inf" | "+inf") => f64::INFINITY,
+            Some(x) => x.parse::<f64>().map_err(|_| Fail(format!("{af}: line {n}: not a number: {x:?}")))?,
+            None => return Err(Fail(format!("{af}: line {n}: no answer"))),
+        };
+        let pair = match t[1..] {
+            [] => None,
+            [i, j] => {
+                let p = |s: &str| s.parse::<usize>().map_err(|_| Fail(format!("{af}: line {n}: not a triangle index: {s:?}")));
+                Some((p(i)?, p(j)?))
+            }
+            _ => {
+                return Err(Fail(format!(
+                    "{af}: line {n}: expected a squared distance, optionally followed by a triangle pair; found {} fields",
+                    t.len()
+                )))
+            }
+        };
+        ans.push((d2, pair));
+    }
+    if ans.len() < cases.len() {
+        return Err(Fail(format!("{af}: {} answers for {} cases", ans.len(), cases.len())));
+    }
+    let js = crate::meshcases::judge_mesh(&cases, &meshes, &ans, a.precision)?;
+    let mut fams: Vec<String> = Vec::new();
+    for c in &cases {
+        let f = c.label.split('/').next().unwrap_or("").to_string();
+        if !fams.contains(&f) {
+            fams.push(f);
+        }
+    }
+    let f = crate::common::fmt;
+    out!(
+        "mesh distance {}: E = |sqrt(answer) - exact distance| / (u S), wrong beyond {} u S\n\n\
+         | family | cases | max E | wrong distances | contact misses | false zeros | non-finite | wrong pairs |\n\
+         |---|---|---|---|---|---|---|---|\n",
+        match a.precision {
+            Prec::F32 => "f32",
+            Prec::F64 => "f64",
+        },
+        crate::meshcases::WRONG
+    );
+    let mut bad_lines: Vec<usize> = Vec::new();
+    for fam in fams.iter().map(Some).chain([None]) {
+        let idx: Vec<usize> = (0..cases.len())
+            .filter(|&i| fam.is_none_or(|f| cases[i].label.split('/').next() == Some(f.as_str())))
+            .collect();
+        let n = |g: fn(&crate::meshcases::MeshJudged) -> bool| idx.iter().filter(|&&i| g(&js[i])).count();
+        let max = idx.iter().map(|&i| js[i].excess).fold(0.0, f64::max);
+        outln!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            fam.map_or("all", |f| f.as_str()),
+            idx.len(),
+            f(max),
+            n(|j| j.wrong),
+            n(|j| j.contact_miss),
+            n(|j| j.false_zero),
+            n(|j| j.nonfinite),
+            n(|j| j.wrong_pair)
+        );
+        if fam.is_none() {
+            bad_lines = idx
+                .iter()
+                .filter(|&&i| {
+                    let j = &js[i];
+                    j.wrong || j.contact_miss || j.false_zero || j.nonfinite || j.wrong_pair
+                })
+                .map(|&i| cases[i].line)
+                .collect();
+        }
+    }
+    let max = js.iter().map(|j| j.excess).fold(0.0, f64::max);
+    let pass = a.max_excess.is_none_or(|m| max <= m) && bad_lines.len() <= a.max_misclassified;
+    let lines: Vec<String> = bad_lines.iter().take(10).map(|l| l.to_string()).collect();
+    outln!(
+        "\n{}: max E {} (limit {}), misclassified {} (limit {}){}",
+        if pass { "PASS" } else { "FAIL" },
+        f(max),
+        a.max_excess.map_or("none".into(), f),
+        bad_lines.len(),
+        a.max_misclassified,
+        if lines.is_empty() { String::new() } else { format!(" at {cf} lines {}", lines.join(", ")) }
+    );
+    if let Some(path) = &a.json {
+        let v = json!({
+            "mesh": true,
+            "precision": match a.precision { Prec::F32 => "f32", Prec::F64 => "f64" },
+            "cases": cases.len(),
+            "max_excess": num(max),
+            "misclassified_lines": bad_lines,
+            "pass": pass,
+        });
+        let text = serde_json::to_string_pretty(&v).map_err(|e| Fail(e.to_string()))?;
+        std::fs::write(path, text + "\n").map_err(|e| Fail(format!("{}: {e}", path.display())))?;
+    }
+    Ok(if pass { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }

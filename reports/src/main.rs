@@ -10,6 +10,7 @@
 #[macro_use]
 mod common;
 mod judge;
+mod meshcases;
 mod meshcmd;
 mod meshprotocol;
 mod meshreport;
@@ -105,6 +106,15 @@ enum Cmd {
     /// configuration it offers, answers corpus/ (the input families with exact answers, and
     /// bad input), judged against the exact answers; every failure named by file and line.
     Peers(peers::PeersArgs),
+    /// Write the conformance corpus's mesh scenes with their exact answers (corpus/mesh).
+    ///
+    /// The meshes as OFF and one placed pair per line with the smallest exact squared
+    /// distance of the exactly placed meshes and a triangle pair attaining it (corpus/README.md).
+    MeshCases(meshcases::MeshCasesArgs),
+    /// Answer a mesh case file with tridist or a mesh peer (for `tridist judge --mesh`).
+    ///
+    /// Prints `label squared-distance [triangle pair]` per case (`error` when there is none).
+    MeshEval(meshcases::MeshEvalArgs),
     /// Distance, intersection, contacts and closest point of two meshes (OFF) in poses.
     ///
     /// Builds each mesh's tree once and runs the mesh queries, the batch kernels doing the
@@ -138,7 +148,7 @@ enum Cmd {
     },
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Prec {
     F32,
     F64,
@@ -333,6 +343,8 @@ fn main() -> ExitCode {
         Cmd::Cases(a) => judge::cmd_cases(&a),
         Cmd::Judge(a) => judge::cmd_judge(&a),
         Cmd::Peers(a) => peers::cmd_peers(&a),
+        Cmd::MeshCases(a) => meshcases::cmd_mesh_cases(&a),
+        Cmd::MeshEval(a) => meshcases::cmd_mesh_eval(&a),
         Cmd::Mesh(a) => meshcmd::cmd_mesh(&a),
         Cmd::Poses(a) => posescmd::cmd_poses(&a),
         Cmd::Advise { scale, tolerance, query, csv } => cmd_advise(scale, tolerance, query, csv),

@@ -18,7 +18,7 @@ use tridist_scenes::peer::{self, Lib, Peer};
 use tridist_scenes::Case;
 
 use crate::common::{fmt, header};
-use crate::Fail;
+use crate::{meshcases, Fail, Prec};
 
 /// The excess error E a conforming answer stays within (ACCURACY.md's target).
 const E_TARGET: f64 = 8.0;
@@ -26,11 +26,28 @@ const E_TARGET: f64 = 8.0;
 /// The command that regenerates PEERS.md (its header names it).
 pub(crate) const COMMAND: &str = "cargo run --release -p tridist-reports --features all-variants -- peers";
 
+/// The levels of the conformance table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum Level {
+    /// Triangle pairs only.
+    Triangle,
+    /// Meshes only.
+    Mesh,
+    /// Both.
+    All,
+}
+
 #[derive(Args, Debug)]
 pub(crate) struct PeersArgs {
     /// The corpus's triangle-level folder [default: corpus/triangle].
     #[arg(long, value_name = "DIR")]
     corpus: Option<PathBuf>,
+    /// Which tables: triangle, mesh or all.
+    #[arg(long, value_enum, default_value = "all")]
+    level: Level,
+    /// The corpus's mesh-level folder [default: corpus/mesh].
+    #[arg(long, value_name = "DIR")]
+    corpus_mesh: Option<PathBuf>,
     /// Write the table here [default: reports/PEERS.md].
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
@@ -280,10 +297,48 @@ fn failures(rows: &[Row]) -> String {
 
 pub(crate) fn cmd_peers(a: &PeersArgs) -> Result<ExitCode, Fail> {
     let root = crate::root();
-    let dir = a.corpus.clone().unwrap_or_else(|| root.join("corpus/triangle"));
+    let missing: Vec<&str> = Lib::JUDGED.iter().filter(|l| !l.available()).map(|l| l.name()).collect();
+    let mut s =
+        header("Conformance: every peer judged against the exact oracle", COMMAND, tridist_scenes::seed());
+    let _ = write!(
+        s,
+        "Every library we can install answers the same committed corpus ([corpus/](../corpus/README.md)), \
+         through its public API, in each precision and configuration it offers, and its answers are judged \
+         against exact ones with the metrics of [docs/ACCURACY.md](../docs/ACCURACY.md): **E** = |answer - \
+         exact distance| / (u S) beyond the correctly rounded answer; *false zeros* (0 reported for a pair \
+         farther apart than 8 u S); *contact misses* (more than 8 u S reported for touching or intersecting \
+         pairs); *non-finite* answers to finite input. Distances only: no peer's closest points are judged. \
+         Every failure below names the case's file and line; `tridist judge --cases FILE` (with `--mesh` for \
+         mesh cases) reproduces it from an answer file, which `tridist eval --peer NAME` (triangles) and \
+         `tridist mesh-eval --peer NAME` (meshes) write for each peer built in.\n\n\
+         The C++ peers are optional (how to get them: FCL `apt-get install libfcl-dev libeigen3-dev`; Coal and \
+         TrueForm `bash scenes/peer/install.sh`; then rebuild); {}.\n",
+        if missing.is_empty() {
+            "every one was built into this run".to_string()
+        } else {
+            format!("not built into this run: {}", missing.join(", "))
+        }
+    );
+    if a.level != Level::Mesh {
+        s.push_str(&triangle_section(
+            &root,
+            &a.corpus.clone().unwrap_or_else(|| root.join("corpus/triangle")),
+        )?);
+    }
+    if a.level != Level::Triangle {
+        s.push_str(&mesh_section(&root, &a.corpus_mesh.clone().unwrap_or_else(|| root.join("corpus/mesh")))?);
+    }
+    let out = a.out.clone().unwrap_or_else(|| root.join("reports/PEERS.md"));
+    std::fs::write(&out, s).map_err(|e| Fail(format!("{}: {e}", out.display())))?;
+    eprintln!("wrote {}", out.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The triangle-level section: every peer and tridist on the corpus's triangle pairs.
+fn triangle_section(root: &Path, dir: &Path) -> Result<String, Fail> {
     let shown = |f: &str| {
         let p = dir.join(f);
-        p.strip_prefix(&root).map_or_else(|_| p.display().to_string(), |r| r.display().to_string())
+        p.strip_prefix(root).map_or_else(|_| p.display().to_string(), |r| r.display().to_string())
     };
     let c32 = load::<f32>(&dir.join("tri_tri.f32.cases"), shown("tri_tri.f32.cases"), true)?;
     let c64 = load::<f64>(&dir.join("tri_tri.f64.cases"), shown("tri_tri.f64.cases"), true)?;
@@ -292,56 +347,119 @@ pub(crate) fn cmd_peers(a: &PeersArgs) -> Result<ExitCode, Fail> {
     if let Some(i) = b64.cases.iter().position(finite) {
         return Err(Fail(format!("{}: a finite case in the bad-input file", b64.at(i))));
     }
-    if let Some(i) = c32.cases.iter().position(|c| !finite(c)) {
-        return Err(Fail(format!(
-            "{}: a non-finite coordinate (bad input belongs in bad_input.cases)",
-            c32.at(i)
-        )));
-    }
-    if let Some(i) = c64.cases.iter().position(|c| !finite(c)) {
-        return Err(Fail(format!(
-            "{}: a non-finite coordinate (bad input belongs in bad_input.cases)",
-            c64.at(i)
-        )));
+    let non_finite = c32.cases.iter().position(|c| !finite(c)).map(|i| c32.at(i));
+    if let Some(at) = non_finite.or_else(|| c64.cases.iter().position(|c| !finite(c)).map(|i| c64.at(i))) {
+        return Err(Fail(format!("{at}: a non-finite coordinate (bad input belongs in bad_input.cases)")));
     }
     let mut rows = rows_for(&c32, &b32)?;
     rows.extend(rows_for(&c64, &b64)?);
-    let missing: Vec<&str> = Lib::JUDGED.iter().filter(|l| !l.available()).map(|l| l.name()).collect();
-    let mut s =
-        header("Conformance: every peer judged against the exact oracle", COMMAND, tridist_scenes::seed());
-    let _ = write!(
-        s,
-        "Every library we can install answers the same committed corpus ([corpus/](../corpus/README.md): the \
-         input families of ACCURACY.md, {} pairs in f32 and {} in f64, each with its exact squared distance as a \
-         fraction, and {} pairs with a NaN or infinite coordinate), through its public API, in each precision \
-         and configuration it offers; its answers are judged against the exact ones with the metrics of \
-         [docs/ACCURACY.md](../docs/ACCURACY.md): **E** = |answer - exact distance| / (u S) beyond the \
-         correctly rounded answer (a conforming answer stays within E = {E_TARGET}); *false zeros* (0 reported \
-         for a pair farther apart than 8 u S); *contact misses* (more than 8 u S reported for touching or \
-         intersecting pairs); *non-finite* answers to finite input; and for bad input, an answer that is a \
-         number (the right answer is none: NaN, or an error). Distances only: no peer's closest points are \
-         judged. Every failure below names the case's file and line; `tridist judge --cases FILE` reproduces it \
-         from an answer file (`tridist eval --peer NAME` writes one for each peer built in).\n\n\
-         The C++ peers are optional (how to get them: FCL `apt-get install libfcl-dev libeigen3-dev`; Coal and \
-         TrueForm `bash scenes/peer/install.sh`; then rebuild); {}.\n\n## Triangle level\n\n",
+    let mut s = format!(
+        "\n## Triangle level\n\nThe input families of ACCURACY.md, {} pairs in f32 and {} in f64, each with its exact \
+         squared distance as a fraction, and {} pairs with a NaN or infinite coordinate, whose right answer is \
+         none (NaN, or an error): a number there is counted. A conforming answer stays within E = {E_TARGET}.\n\n",
         c32.cases.len(),
         c64.cases.len(),
         b64.cases.len(),
-        if missing.is_empty() {
-            "every one was built into this run".to_string()
-        } else {
-            format!("not built into this run: {}", missing.join(", "))
-        }
     );
     s.push_str(&table(&rows));
     s.push_str("\nWhere each row's worst case is, and every family over E = 8 or failure counted:\n\n");
     s.push_str(&failures(&rows));
-    s.push_str(
-        "\n## Mesh level\n\nNot judged yet: mesh distances are compared between libraries (MESH.md's \
-         agreement and wrong-distance columns), not against exact answers.\n",
+    Ok(s)
+}
+
+/// The mesh-level section: every mesh contender on the corpus's mesh cases.
+fn mesh_section(root: &Path, dir: &Path) -> Result<String, Fail> {
+    let file = dir.join(meshcases::CASE_FILE);
+    let shown =
+        file.strip_prefix(root).map_or_else(|_| file.display().to_string(), |r| r.display().to_string());
+    let text = std::fs::read_to_string(&file).map_err(|e| Fail(format!("{}: {e}", file.display())))?;
+    let cases = meshcases::parse_cases(&text, &shown)?;
+    let meshes = meshcases::load_meshes(&cases, dir)?;
+    let family = |c: &meshcases::MeshCase| c.label.split('/').next().unwrap_or("").to_string();
+    let mut fams: Vec<String> = Vec::new();
+    for c in &cases {
+        if !fams.contains(&family(c)) {
+            fams.push(family(c));
+        }
+    }
+    let mut s = format!(
+        "\n## Mesh level\n\nThe same libraries' mesh distance on [{shown}](../{shown}): {} placed pairs of the \
+         meshes beside it ({}), in {} families ({}). Each case's exact answer is the smallest exact squared \
+         distance over all triangle pairs of the two meshes placed exactly (`R v + t` in rationals), found by \
+         an exact computation over every pair that a sweep of padded boxes cannot rule out (not by any \
+         library's search; corpus/README.md). Each library places the meshes itself, in its own precision: \
+         E is measured in that precision's u, with S the largest coordinate of the placed meshes. A \
+         **wrong distance** is one beyond {} u S (MESH.md's threshold) or none; a **wrong pair** a reported \
+         triangle pair whose exact distance exceeds the minimum by more than that (only tridist reports its \
+         pair here).\n\n\
+         | library | version | configuration | precision | families | cases | worst E | wrong distances | false zeros | contact misses | non-finite | wrong pairs |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        cases.len(),
+        {
+            let mut names: Vec<&str> = meshes.keys().map(String::as_str).collect();
+            names.sort_unstable();
+            names.join(", ")
+        },
+        fams.len(),
+        fams.join(", "),
+        meshcases::WRONG,
     );
-    let out = a.out.clone().unwrap_or_else(|| root.join("reports/PEERS.md"));
-    std::fs::write(&out, s).map_err(|e| Fail(format!("{}: {e}", out.display())))?;
-    eprintln!("wrote {}", out.display());
-    Ok(ExitCode::SUCCESS)
+    let mut bullets = String::new();
+    for (who, lib, version, config) in meshcases::contenders() {
+        let prec = who.precision();
+        let pname = match prec {
+            Prec::F32 => "f32",
+            Prec::F64 => "f64",
+        };
+        let head = format!("| {lib} | {version} | {config} | {pname} ");
+        let answers = match meshcases::answers(who, &cases, &meshes) {
+            Ok(a) => a,
+            Err(Fail(why)) => {
+                let _ = writeln!(s, "{head}| not built: {why} | | | | | | | |");
+                continue;
+            }
+        };
+        let js = meshcases::judge_mesh(&cases, &meshes, &answers, prec)?;
+        let at = |i: usize| format!("{shown}:{}", cases[i].line);
+        let list = |f: fn(&meshcases::MeshJudged) -> bool| -> Vec<String> {
+            (0..js.len()).filter(|&i| f(&js[i])).map(at).collect()
+        };
+        let worst = (0..js.len()).max_by(|&a, &b| js[a].excess.total_cmp(&js[b].excess)).unwrap_or(0);
+        let (wrong, fz, cm, nf, wp) = (
+            list(|j| j.wrong),
+            list(|j| j.false_zero),
+            list(|j| j.contact_miss),
+            list(|j| j.nonfinite),
+            list(|j| j.wrong_pair),
+        );
+        let reports_pairs = answers.iter().any(|a| a.1.is_some());
+        let _ = writeln!(
+            s,
+            "{head}| {} | {} | {} | {} | {} | {} | {} | {} |",
+            fams.len(),
+            cases.len(),
+            fmt(js[worst].excess),
+            wrong.len(),
+            fz.len(),
+            cm.len(),
+            nf.len(),
+            if reports_pairs { wp.len().to_string() } else { "no pair reported".into() },
+        );
+        let mut items = vec![format!("worst E {} at {}", fmt(js[worst].excess), at(worst))];
+        for (what, v) in [
+            ("wrong distances", &wrong),
+            ("false zeros", &fz),
+            ("contact misses", &cm),
+            ("non-finite", &nf),
+            ("wrong pairs", &wp),
+        ] {
+            if !v.is_empty() {
+                items.push(format!("{what}: {}", places(v)));
+            }
+        }
+        let _ = writeln!(bullets, "- **{lib} ({config}, {pname})**: {}.", items.join("; "));
+    }
+    s.push_str("\nWhere each row's worst case is, and every failure counted:\n\n");
+    s.push_str(&bullets);
+    Ok(s)
 }

@@ -48,7 +48,8 @@ fn the_corpus_is_what_tridist_cases_writes() {
 /// The table's rows: (library, precision, the rest of the cells).
 fn rows(md: &str) -> Vec<(String, String, Vec<String>)> {
     let start = md.find("## Triangle level").expect("the triangle section");
-    md[start..]
+    let end = md.find("## Mesh level").unwrap_or(md.len());
+    md[start..end]
         .lines()
         .filter(|l| l.starts_with("| ") && !l.starts_with("| library"))
         .map(|l| {
@@ -60,7 +61,7 @@ fn rows(md: &str) -> Vec<(String, String, Vec<String>)> {
 
 fn peers(corpus: &Path, out: &Path) -> String {
     let (c, o) = (corpus.display().to_string(), out.display().to_string());
-    let (code, stdout, err) = tridist(&["peers", "--corpus", &c, "--out", &o], "");
+    let (code, stdout, err) = tridist(&["peers", "--level", "triangle", "--corpus", &c, "--out", &o], "");
     assert_eq!(code, 0, "{stdout}{err}");
     std::fs::read_to_string(out).unwrap()
 }
@@ -133,4 +134,140 @@ fn a_wrong_exact_answer_is_caught_at_its_line() {
             "{at} not named: {b}"
         );
     }
+}
+
+fn mesh_corpus() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../corpus/mesh")
+}
+
+/// The mesh corpus's exact answers are mesh_exact's, recomputed for one case of each family
+/// (all of them take about 20 s: `tridist mesh-cases` regenerates the corpus), and its part
+/// is the carried mesh normalised as the generator writes it.
+#[test]
+fn the_mesh_corpus_answers_are_exact() {
+    use tridist::Pose;
+    use tridist_scenes::mesh::Mesh;
+    let dir = mesh_corpus();
+    let text = std::fs::read_to_string(dir.join("mesh.cases")).unwrap();
+    let mut part = tridist_scenes::mesh::carried("mech-holes-shark.off").unwrap();
+    tridist_scenes::protocol::normalise(&mut part);
+    assert!(Mesh::load(&dir.join("part.off")).unwrap() == part, "part.off is not the normalised part");
+    let mut seen: Vec<String> = Vec::new();
+    let mut checked = 0;
+    for l in text.lines().filter(|l| !l.starts_with('#') && !l.trim().is_empty()) {
+        let f: Vec<&str> = l.split_whitespace().collect();
+        let family = f[0].split('/').next().unwrap().to_string();
+        if seen.contains(&family) {
+            continue;
+        }
+        seen.push(family);
+        let n: Vec<f64> = f[3..27].iter().map(|s| s.parse().unwrap()).collect();
+        let pose = |v: &[f64]| Pose {
+            translation: [v[0], v[1], v[2]],
+            rotation: [[v[3], v[4], v[5]], [v[6], v[7], v[8]], [v[9], v[10], v[11]]],
+        };
+        let (a, b) = (Mesh::load(&dir.join(f[1])).unwrap(), Mesh::load(&dir.join(f[2])).unwrap());
+        let x = tridist_scenes::mesh_exact::mesh_exact(&a, &pose(&n[..12]), &b, &pose(&n[12..])).unwrap();
+        assert_eq!(f[27], format!("exact={}/{}", x.d2.numer(), x.d2.denom()), "{}", f[0]);
+        if x.d2 != 0 {
+            assert_eq!(f[28], format!("pair={},{}", x.tri_a, x.tri_b), "{}", f[0]);
+        }
+        checked += 1;
+    }
+    assert!(checked >= 7, "{seen:?}");
+}
+
+/// The corpus's cube and part scenes (not the Armadillo's, which names a file outside its
+/// folder) in a folder of their own: the folder and the case lines.
+fn mesh_subset(name: &str) -> (PathBuf, Vec<String>) {
+    let d = std::env::temp_dir().join(format!("tridist-mesh-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    for f in ["cube.off", "part.off", "part_degenerate.off"] {
+        std::fs::copy(mesh_corpus().join(f), d.join(f)).unwrap();
+    }
+    let text = std::fs::read_to_string(mesh_corpus().join("mesh.cases")).unwrap();
+    let keep: Vec<String> = text
+        .lines()
+        .filter(|l| {
+            ["coplanar/", "through/", "near_contact/", "degenerate/"].iter().any(|p| l.starts_with(p))
+        })
+        .map(String::from)
+        .collect();
+    assert!(keep.len() >= 15);
+    std::fs::write(d.join("mesh.cases"), keep.join("\n") + "\n").unwrap();
+    (d, keep)
+}
+
+/// PEERS.md's mesh table: a row per mesh contender and precision (built or "not built"),
+/// tridist's with no failure and its worst E within the triangle target.
+#[test]
+fn mesh_table_has_every_library_and_tridist_conforms() {
+    let (d, keep) = mesh_subset("table");
+    let out = d.join("PEERS.md");
+    let (c, o) = (d.display().to_string(), out.display().to_string());
+    let (code, stdout, err) = tridist(&["peers", "--level", "mesh", "--corpus-mesh", &c, "--out", &o], "");
+    assert_eq!(code, 0, "{stdout}{err}");
+    let md = std::fs::read_to_string(&out).unwrap();
+    assert!(!md.contains("## Triangle level"));
+    let start = md.find("## Mesh level").expect("the mesh section");
+    let rows: Vec<Vec<String>> = md[start..]
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| library"))
+        .map(|l| l.trim_matches('|').split(" | ").map(|s| s.trim().to_string()).collect())
+        .collect();
+    let ours: Vec<_> = rows.iter().filter(|r| r[0] == "tridist").collect();
+    assert!(ours.len() >= 2, "{rows:?}");
+    for r in ours {
+        assert_eq!(r[5], keep.len().to_string(), "{r:?}");
+        assert!(r[6].parse::<f64>().unwrap() <= 8.0, "{r:?}");
+        assert_eq!(&r[7..12], ["0", "0", "0", "0", "0"], "{r:?}");
+    }
+    assert_eq!(rows.iter().filter(|r| r[0] == "parry3d").count(), 2);
+    for lib in tridist_scenes::mesh_peer::MeshLib::ALL {
+        let r: Vec<_> = rows.iter().filter(|r| r[2] == lib.name()).collect();
+        assert_eq!(r.len(), 1, "{}", lib.name());
+        assert_eq!(r[0][4].starts_with("not built"), !lib.available(), "{:?}", r[0]);
+    }
+}
+
+/// `tridist mesh-eval` answers a mesh case file and `tridist judge --mesh` judges it: tridist
+/// passes; a planted wrong distance, a swapped triangle pair and a dropped answer are each
+/// caught (the first two named by their case-file line, the last a line-numbered error).
+#[test]
+fn mesh_answers_are_judged_and_faults_caught() {
+    let (d, keep) = mesh_subset("judge");
+    let cases = d.join("mesh.cases");
+    let c = cases.display().to_string();
+    let (code, answers, err) = tridist(&["mesh-eval", "--cases", &c, "--precision", "f64"], "");
+    assert_eq!(code, 0, "{err}");
+    let judge = |answers: &str| {
+        let a = d.join("answers.txt");
+        std::fs::write(&a, answers).unwrap();
+        let a = a.display().to_string();
+        tridist(&["judge", "--mesh", "--cases", &c, "--answers", &a, "--precision", "f64"], "")
+    };
+    let (code, out, err) = judge(&answers);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("PASS"), "{out}");
+    let lines: Vec<String> = answers.lines().map(String::from).collect();
+    // a wrong distance: the squared distance of a positive case quadrupled
+    let k = keep.iter().position(|l| l.starts_with("coplanar/") && !l.contains("exact=0/1")).unwrap();
+    let mut wrong = lines.clone();
+    let f: Vec<&str> = wrong[k].split(' ').collect();
+    wrong[k] = format!("{} {:?} {} {}", f[0], f[1].parse::<f64>().unwrap() * 4.0, f[2], f[3]);
+    let (code, out, _) = judge(&(wrong.join("\n") + "\n"));
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains(&format!(" lines {}\n", k + 1)), "{out}");
+    // a swapped pair: the first mesh's triangle given as the second's
+    let j = keep.iter().position(|l| l.starts_with("near_contact/")).unwrap();
+    let mut swapped = lines.clone();
+    let f: Vec<&str> = swapped[j].split(' ').collect();
+    swapped[j] = format!("{} {} {} {}", f[0], f[1], f[3], f[2]);
+    let (code, out, _) = judge(&(swapped.join("\n") + "\n"));
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains(&format!(" lines {}\n", j + 1)), "{out}");
+    // a dropped answer
+    let (code, _, err) = judge(&(lines[..lines.len() - 1].join("\n") + "\n"));
+    assert_eq!(code, 3);
+    assert!(err.contains("answers for"), "{err}");
 }

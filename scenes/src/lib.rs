@@ -4,6 +4,8 @@
 //!   subnormal, degenerate, parallel, near-parallel, intersecting, touching, near misses, real
 //!   mesh neighbours);
 //! * [`mesh`]: the OFF loader and the meshes carried in `data/meshes`;
+//! * [`mesh_exact`]: the exact answer of two placed meshes (the conformance corpus's mesh
+//!   cases);
 //! * [`eval`]: run a kernel variant, judge it against the exact oracle, summarise;
 //! * [`bounds`]: the declared bound table, one row per (query, variant, precision, family group),
 //!   each with its reason;
@@ -19,6 +21,7 @@ pub mod families;
 pub mod float;
 pub mod fuzzing;
 pub mod mesh;
+pub mod mesh_exact;
 #[cfg(feature = "peers")]
 pub mod mesh_peer;
 pub mod mesh_scenes;
