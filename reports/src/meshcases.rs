@@ -51,8 +51,8 @@ pub(crate) struct MeshEvalArgs {
     /// The mesh case file.
     #[arg(long, value_name = "FILE")]
     cases: PathBuf,
-    /// Answer with this mesh peer instead of tridist: fcl, coal, trueform-aabb-f32,
-    /// trueform-aabb-f64, trueform-obbrss-f64, parry3d.
+    /// Answer with this mesh peer instead of tridist: fcl, fcl-rss, coal, coal-rss,
+    /// trueform-aabb-f32, trueform-aabb-f64, trueform-obbrss-f64, parry3d.
     #[arg(long)]
     peer: Option<String>,
     /// tridist's (and parry's) precision.
@@ -351,9 +351,11 @@ impl MeshContender {
 pub(crate) type MeshAnswer = (f64, Option<(usize, usize)>);
 
 /// The `--peer` names of `mesh-eval`.
-const PEER_NAMES: [(&str, MeshLib); 5] = [
+pub(crate) const PEER_NAMES: [(&str, MeshLib); 7] = [
     ("fcl", MeshLib::Fcl),
+    ("fcl-rss", MeshLib::FclRss),
     ("coal", MeshLib::Coal),
+    ("coal-rss", MeshLib::CoalRss),
     ("trueform-aabb-f32", MeshLib::TrueFormAabbF32),
     ("trueform-aabb-f64", MeshLib::TrueFormAabbF64),
     ("trueform-obbrss-f64", MeshLib::TrueFormObbrssF64),
@@ -605,10 +607,10 @@ pub(crate) fn contenders() -> Vec<(MeshContender, String, String, String)> {
             ),
         ));
     }
-    for lib in MeshLib::ALL {
+    for lib in MeshLib::JUDGED {
         let (name, version) = match lib {
-            MeshLib::Fcl => ("fcl", tridist_scenes::peer::Lib::Fcl.version()),
-            MeshLib::Coal => ("coal", tridist_scenes::peer::Lib::Coal.version()),
+            MeshLib::Fcl | MeshLib::FclRss => ("fcl", tridist_scenes::peer::Lib::Fcl.version()),
+            MeshLib::Coal | MeshLib::CoalRss => ("coal", tridist_scenes::peer::Lib::Coal.version()),
             _ => ("trueform", tridist_scenes::peer::Lib::TrueForm.version()),
         };
         v.push((MeshContender::Peer(lib), name.into(), version.into(), lib.name().to_string()));

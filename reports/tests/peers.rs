@@ -223,7 +223,7 @@ fn mesh_table_has_every_library_and_tridist_conforms() {
         assert_eq!(&r[7..12], ["0", "0", "0", "0", "0"], "{r:?}");
     }
     assert_eq!(rows.iter().filter(|r| r[0] == "parry3d").count(), 2);
-    for lib in tridist_scenes::mesh_peer::MeshLib::ALL {
+    for lib in tridist_scenes::mesh_peer::MeshLib::JUDGED {
         let r: Vec<_> = rows.iter().filter(|r| r[2] == lib.name()).collect();
         assert_eq!(r.len(), 1, "{}", lib.name());
         assert_eq!(r[0][4].starts_with("not built"), !lib.available(), "{:?}", r[0]);
@@ -270,4 +270,51 @@ fn mesh_answers_are_judged_and_faults_caught() {
     let (code, _, err) = judge(&(lines[..lines.len() - 1].join("\n") + "\n"));
     assert_eq!(code, 3);
     assert!(err.contains("answers for"), "{err}");
+}
+
+/// Every adapter, as a user runs it: `tridist eval --peer NAME` answers a tiny case file (two
+/// parallel triangles 2 apart: 4) in each precision the library offers, and says what is
+/// missing otherwise (exit 3); `tridist mesh-eval --peer NAME` answers the mesh cases or says
+/// the peer is not built.
+#[test]
+fn every_adapter_answers_a_tiny_case_file_or_says_why_not() {
+    let case = "pair 0 0 0 1 0 0 0 1 0 0 0 2 1 0 2 0 1 2\n";
+    for lib in Lib::JUDGED {
+        for (prec, offered) in [("f32", lib.offers::<f32>()), ("f64", lib.offers::<f64>())] {
+            let (code, out, err) = tridist(&["eval", "--peer", lib.name(), "--precision", prec], case);
+            if lib.available() && offered {
+                assert_eq!((code, out.as_str()), (0, "pair 4.0\n"), "{} {prec}: {err}", lib.name());
+            } else {
+                assert_eq!(code, 3, "{} {prec}: {out}", lib.name());
+                assert!(err.contains("not built in") || err.contains("does not compute in"), "{err}");
+            }
+        }
+    }
+    let (d, keep) = mesh_subset("adapters");
+    let c = d.join("mesh.cases").display().to_string();
+    for (name, lib) in [
+        ("fcl", tridist_scenes::mesh_peer::MeshLib::Fcl),
+        ("fcl-rss", tridist_scenes::mesh_peer::MeshLib::FclRss),
+        ("coal", tridist_scenes::mesh_peer::MeshLib::Coal),
+        ("coal-rss", tridist_scenes::mesh_peer::MeshLib::CoalRss),
+        ("trueform-aabb-f32", tridist_scenes::mesh_peer::MeshLib::TrueFormAabbF32),
+        ("trueform-aabb-f64", tridist_scenes::mesh_peer::MeshLib::TrueFormAabbF64),
+        ("trueform-obbrss-f64", tridist_scenes::mesh_peer::MeshLib::TrueFormObbrssF64),
+    ] {
+        let (code, out, err) = tridist(&["mesh-eval", "--cases", &c, "--peer", name], "");
+        if lib.available() {
+            assert_eq!(code, 0, "{name}: {err}");
+            assert_eq!(out.lines().count(), keep.len(), "{name}");
+            assert!(
+                out.lines().all(|l| l.split(' ').nth(1).is_some_and(|d| d.parse::<f64>().is_ok())),
+                "{out}"
+            );
+        } else {
+            assert_eq!(code, 3, "{name}: {out}");
+            assert!(err.contains("not built in"), "{err}");
+        }
+    }
+    let (code, _, err) = tridist(&["mesh-eval", "--cases", &c, "--peer", "nonsense"], "");
+    assert_eq!(code, 3);
+    assert!(err.contains("unknown mesh peer"), "{err}");
 }

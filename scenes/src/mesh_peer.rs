@@ -1,6 +1,7 @@
 //! The C++ mesh peers, measured beside tridist on the same meshes and poses: FCL
 //! (`BVHModel<OBBRSS>`), Coal (FCL's fork, `BVHModel<OBBRSS>`) and TrueForm (`tf::neighbor_search`
-//! of two forms, in three tree configurations). Each is a small shim in `scenes/peer/` with one
+//! of two forms, in three tree configurations); FCL and Coal also with `BVHModel<RSS>`, judged
+//! only (the conformance table). Each is a small shim in `scenes/peer/` with one
 //! C ABI (new / free / distance / collide), compiled by `build.rs` when the library is installed:
 //! FCL from Debian's `libfcl-dev`, Coal and TrueForm from their PyPI wheels
 //! (`bash scenes/peer/install.sh`). [`MeshLib::available`] says which were built; without them
@@ -18,6 +19,10 @@ pub enum MeshLib {
     Fcl,
     /// Coal 3 (PyPI `coal`), `BVHModel<OBBRSS>`, double.
     Coal,
+    /// FCL, `BVHModel<RSS<double>>` (judged in the conformance table, not timed).
+    FclRss,
+    /// Coal, `BVHModel<RSS>` (judged in the conformance table, not timed).
+    CoalRss,
     /// TrueForm (PyPI `trueform`), axis-aligned boxes in float, 4 children per node and 4
     /// triangles per leaf: the configuration of TrueForm's own mesh distance benchmark.
     TrueFormAabbF32,
@@ -28,10 +33,21 @@ pub enum MeshLib {
 }
 
 impl MeshLib {
-    /// Every mesh peer, built or not.
+    /// The mesh peers the report times, built or not.
     pub const ALL: [MeshLib; 5] = [
         MeshLib::Fcl,
         MeshLib::Coal,
+        MeshLib::TrueFormAabbF32,
+        MeshLib::TrueFormAabbF64,
+        MeshLib::TrueFormObbrssF64,
+    ];
+    /// Every configuration the conformance table judges: [`MeshLib::ALL`] and the other
+    /// bounding volumes FCL's and Coal's distance queries offer.
+    pub const JUDGED: [MeshLib; 7] = [
+        MeshLib::Fcl,
+        MeshLib::FclRss,
+        MeshLib::Coal,
+        MeshLib::CoalRss,
         MeshLib::TrueFormAabbF32,
         MeshLib::TrueFormAabbF64,
         MeshLib::TrueFormObbrssF64,
@@ -42,6 +58,8 @@ impl MeshLib {
         match self {
             MeshLib::Fcl => "FCL (OBBRSS, double)",
             MeshLib::Coal => "Coal (OBBRSS, double)",
+            MeshLib::FclRss => "FCL (RSS, double)",
+            MeshLib::CoalRss => "Coal (RSS, double)",
             MeshLib::TrueFormAabbF32 => "TrueForm (AABB, float)",
             MeshLib::TrueFormAabbF64 => "TrueForm (AABB, double)",
             MeshLib::TrueFormObbrssF64 => "TrueForm (OBBRSS, double)",
@@ -56,7 +74,7 @@ impl MeshLib {
     /// How to get this peer when it was not built.
     pub fn how_to_get(self) -> &'static str {
         match self {
-            MeshLib::Fcl => "apt-get install libfcl-dev libeigen3-dev, then rebuild",
+            MeshLib::Fcl | MeshLib::FclRss => "apt-get install libfcl-dev libeigen3-dev, then rebuild",
             _ => "bash scenes/peer/install.sh, then rebuild",
         }
     }
@@ -68,6 +86,7 @@ impl MeshLib {
             MeshLib::TrueFormAabbF64 => 1,
             MeshLib::TrueFormObbrssF64 => 2,
             MeshLib::Fcl | MeshLib::Coal => 0,
+            MeshLib::FclRss | MeshLib::CoalRss => 1,
         }
     }
 }
@@ -139,9 +158,9 @@ extern "C" {
 fn abi(lib: MeshLib) -> Option<&'static Abi> {
     match lib {
         #[cfg(tridist_fcl_mesh)]
-        MeshLib::Fcl => Some(&FCL),
+        MeshLib::Fcl | MeshLib::FclRss => Some(&FCL),
         #[cfg(tridist_coal)]
-        MeshLib::Coal => coal::abi(),
+        MeshLib::Coal | MeshLib::CoalRss => coal::abi(),
         #[cfg(tridist_trueform)]
         MeshLib::TrueFormAabbF32 | MeshLib::TrueFormAabbF64 | MeshLib::TrueFormObbrssF64 => Some(&TRUEFORM),
         #[allow(unreachable_patterns)]
@@ -313,7 +332,7 @@ mod tests {
     #[test]
     fn peers_refuse_what_tridist_refuses() {
         let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-        for lib in MeshLib::ALL {
+        for lib in MeshLib::JUDGED {
             assert!(MeshPeer::new(lib, &v, &[]).is_none(), "{lib:?}: no triangle");
             assert!(MeshPeer::new(lib, &v, &[[0, 1, 3]]).is_none(), "{lib:?}: index out of range");
             let nan = [[0.0, 0.0, 0.0], [1.0, f64::NAN, 0.0], [0.0, 1.0, 0.0]];
@@ -330,7 +349,7 @@ mod tests {
         let t = [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]];
         let id = Pose::identity();
         let (far, near) = (Pose::translation([3.0, 0.0, 0.0]), Pose::translation([0.5, 0.0, 0.0]));
-        let built: Vec<MeshPeer> = MeshLib::ALL.iter().filter_map(|&l| MeshPeer::new(l, &v, &t)).collect();
+        let built: Vec<MeshPeer> = MeshLib::JUDGED.iter().filter_map(|&l| MeshPeer::new(l, &v, &t)).collect();
         eprintln!("mesh peers built: {:?}", built.iter().map(MeshPeer::lib).collect::<Vec<_>>());
         for a in &built {
             let b = MeshPeer::new(a.lib(), &v, &t).expect("built");
