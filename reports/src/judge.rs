@@ -515,6 +515,16 @@ fn judge_mesh_files(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Resu
             Some(x) => x.parse::<f64>().map_err(|_| Fail(format!("{af}: line {n}: not a number: {x:?}")))?,
             None => return Err(Fail(format!("{af}: line {n}: no answer"))),
         };
+        let contacts = match t.last().and_then(|x| x.strip_prefix("contacts=")) {
+            Some(list) => {
+                let mut v =
+                    crate::meshcases::parse_pairs(list).map_err(|e| Fail(format!("{af}: line {n}: {e}")))?;
+                v.sort_unstable();
+                t.pop();
+                Some(v)
+            }
+            None => None,
+        };
         let pair = match t[1..] {
             [] => None,
             [i, j] => {
@@ -528,7 +538,7 @@ fn judge_mesh_files(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Resu
                 )))
             }
         };
-        ans.push((d2, pair));
+        ans.push(crate::meshcases::MeshAnswer { d2, pair, contacts });
     }
     if ans.len() < cases.len() {
         return Err(Fail(format!("{af}: {} answers for {} cases", ans.len(), cases.len())));
@@ -544,8 +554,8 @@ fn judge_mesh_files(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Resu
     let f = crate::common::fmt;
     out!(
         "mesh distance {}: E = |sqrt(answer) - exact distance| / (u S), wrong beyond {} u S\n\n\
-         | family | cases | max E | wrong distances | contact misses | false zeros | non-finite | wrong pairs |\n\
-         |---|---|---|---|---|---|---|---|\n",
+         | family | cases | max E | wrong distances | contact misses | false zeros | non-finite | wrong pairs | contacts missed / extra |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
         match a.precision {
             Prec::F32 => "f32",
             Prec::F64 => "f64",
@@ -559,8 +569,18 @@ fn judge_mesh_files(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Resu
             .collect();
         let n = |g: fn(&crate::meshcases::MeshJudged) -> bool| idx.iter().filter(|&&i| g(&js[i])).count();
         let max = idx.iter().map(|&i| js[i].excess).fold(0.0, f64::max);
+        let judged: Vec<(usize, usize)> = idx.iter().filter_map(|&i| js[i].contacts).collect();
+        let contacts = if judged.is_empty() {
+            "-".to_string()
+        } else {
+            format!(
+                "{} / {}",
+                judged.iter().map(|c| c.0).sum::<usize>(),
+                judged.iter().map(|c| c.1).sum::<usize>()
+            )
+        };
         outln!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {contacts} |",
             fam.map_or("all", |f| f.as_str()),
             idx.len(),
             f(max),
@@ -575,7 +595,12 @@ fn judge_mesh_files(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Resu
                 .iter()
                 .filter(|&&i| {
                     let j = &js[i];
-                    j.wrong || j.contact_miss || j.false_zero || j.nonfinite || j.wrong_pair
+                    j.wrong
+                        || j.contact_miss
+                        || j.false_zero
+                        || j.nonfinite
+                        || j.wrong_pair
+                        || j.contacts.is_some_and(|c| c.0 + c.1 > 0)
                 })
                 .map(|&i| cases[i].line)
                 .collect();

@@ -20,7 +20,7 @@ use rug::Rational;
 use tridist::{Engine, Isa, Pose};
 use tridist_oracle::metrics::{contact_miss, excess, false_zero, Precision};
 use tridist_scenes::mesh::Mesh;
-use tridist_scenes::mesh_exact::{mesh_exact, pair_d2, scene_magnitude};
+use tridist_scenes::mesh_exact::{contacts_exact, mesh_exact, pair_d2, scene_magnitude};
 use tridist_scenes::mesh_peer::{MeshLib, MeshPeer};
 use tridist_scenes::peer::{Peer, PeerPose};
 use tridist_scenes::protocol::{ball_placements, ball_radius, near_contact_pose, normalise};
@@ -35,6 +35,10 @@ pub(crate) const WRONG: f64 = 64.0;
 
 /// The contact classification's `c` (ACCURACY.md), in `u S`.
 const CONTACT_C: f64 = 8.0;
+
+/// The contact margin of the corpus's close scenes: 1 % of the normalised meshes' size (2), as
+/// MESH.md's contact query.
+const CONTACT_MARGIN: f64 = 0.02;
 
 /// The corpus's mesh case file, in corpus/mesh.
 pub(crate) const CASE_FILE: &str = "mesh.cases";
@@ -69,6 +73,9 @@ pub(crate) struct MeshCase {
     pub pb: Pose<f64>,
     pub exact: Option<Rational>,
     pub pair: Option<(usize, usize)>,
+    /// The contact margin, and the exact contact set at it (sorted).
+    pub margin: Option<f64>,
+    pub contacts: Option<Vec<(usize, usize)>>,
     /// 1-based line.
     pub line: usize,
 }
@@ -87,6 +94,23 @@ fn pose_text(p: &Pose<f64>) -> String {
         .map(|x| format!("{x:?}"))
         .collect::<Vec<_>>()
         .join(" ")
+}
+
+/// Triangle pairs as `i,j;i,j;...` (empty: none).
+pub(crate) fn pairs_text(v: &[(usize, usize)]) -> String {
+    v.iter().map(|(i, j)| format!("{i},{j}")).collect::<Vec<_>>().join(";")
+}
+
+/// Parses [`pairs_text`].
+pub(crate) fn parse_pairs(s: &str) -> Result<Vec<(usize, usize)>, String> {
+    s.split(';')
+        .filter(|p| !p.is_empty())
+        .map(|p| {
+            let (i, j) = p.split_once(',').ok_or_else(|| format!("not a pair: {p:?}"))?;
+            let n = |x: &str| x.parse::<usize>().map_err(|_| format!("not a triangle index: {x:?}"));
+            Ok((n(i)?, n(j)?))
+        })
+        .collect()
 }
 
 /// Parses a mesh case file (errors name the line).
@@ -109,7 +133,7 @@ pub(crate) fn parse_cases(text: &str, name: &str) -> Result<Vec<MeshCase>, Fail>
             .iter()
             .map(|s| s.parse::<f64>().map_err(|_| at(format!("not a number: {s:?}"))))
             .collect::<Result<_, _>>()?;
-        let (mut exact, mut pair) = (None, None);
+        let (mut exact, mut pair, mut margin, mut contacts) = (None, None, None, None);
         for extra in &f[27..] {
             if let Some(r) = extra.strip_prefix("exact=") {
                 exact =
@@ -118,6 +142,13 @@ pub(crate) fn parse_cases(text: &str, name: &str) -> Result<Vec<MeshCase>, Fail>
                 let (x, y) = p.split_once(',').ok_or_else(|| at(format!("not a pair: {extra:?}")))?;
                 let n = |s: &str| s.parse::<usize>().map_err(|_| at(format!("not a pair: {extra:?}")));
                 pair = Some((n(x)?, n(y)?));
+            } else if let Some(m) = extra.strip_prefix("margin=") {
+                let m = m.parse::<f64>().ok().filter(|m| m.is_finite() && *m >= 0.0);
+                margin = Some(m.ok_or_else(|| at(format!("not a margin: {extra:?}")))?);
+            } else if let Some(list) = extra.strip_prefix("contacts=") {
+                let mut v = parse_pairs(list).map_err(|e| at(format!("{e} in {extra:?}")))?;
+                v.sort_unstable();
+                contacts = Some(v);
             } else {
                 return Err(at(format!("unexpected field {extra:?}")));
             }
@@ -130,6 +161,8 @@ pub(crate) fn parse_cases(text: &str, name: &str) -> Result<Vec<MeshCase>, Fail>
             pb: pose_from(&nums[12..]),
             exact,
             pair,
+            margin,
+            contacts,
             line: i + 1,
         });
     }
@@ -313,6 +346,14 @@ pub(crate) fn cmd_mesh_cases(a: &MeshCasesArgs) -> Result<ExitCode, Fail> {
             x.tri_a,
             x.tri_b
         );
+        // contact sets at 1 % of the size (MESH.md's margin) where the meshes are close
+        if ["near_contact/", "coplanar/", "degenerate/", "through/"].iter().any(|f| label.starts_with(f)) {
+            let m = CONTACT_MARGIN;
+            let cs = contacts_exact(&by_name[ma], &pa, &by_name[mb], &pb, m)
+                .map_err(|e| Fail(format!("{label}: {e}")))?;
+            s.pop();
+            let _ = writeln!(s, " margin={m:?} contacts={}", pairs_text(&cs));
+        }
         eprintln!("{label}: {} candidates, {} answered exactly", x.candidates.0, x.candidates.1);
     }
     let p = dir.join(CASE_FILE);
@@ -346,9 +387,22 @@ impl MeshContender {
     }
 }
 
-/// An answer to a mesh case: the squared distance (NaN: none) and the triangle pair, when
-/// reported.
-pub(crate) type MeshAnswer = (f64, Option<(usize, usize)>);
+/// An answer to a mesh case.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct MeshAnswer {
+    /// The squared distance (NaN: none).
+    pub d2: f64,
+    /// The closest triangle pair, when reported.
+    pub pair: Option<(usize, usize)>,
+    /// The triangle pairs within the case's margin, when reported.
+    pub contacts: Option<Vec<(usize, usize)>>,
+}
+
+impl MeshAnswer {
+    fn distance(d2: f64) -> MeshAnswer {
+        MeshAnswer { d2, pair: None, contacts: None }
+    }
+}
 
 /// The `--peer` names of `mesh-eval`.
 pub(crate) const PEER_NAMES: [(&str, MeshLib); 7] = [
@@ -405,7 +459,7 @@ fn parry_answers<T: Peer>(cases: &[MeshCase], meshes: &HashMap<String, Mesh>) ->
             };
             // squared in T, as the triangle table squares the peers' distances
             let d = T::from_f64(d);
-            ((d * d).to_f64(), None)
+            MeshAnswer::distance((d * d).to_f64())
         })
         .collect()
 }
@@ -437,7 +491,27 @@ fn tridist_answers<T: tridist::Real + Peer>(
             let r = e
                 .mesh_distance(&built[c.a.as_str()], &pose(&c.pa), &built[c.b.as_str()], &pose(&c.pb))
                 .map_err(|x| Fail(format!("{}: {x}", c.label)))?;
-            Ok(r.map_or((f64::NAN, None), |r| (r.sqdist.to_f64(), Some((r.tri_a, r.tri_b)))))
+            let mut ans = r.map_or(MeshAnswer::distance(f64::NAN), |r| MeshAnswer {
+                d2: r.sqdist.to_f64(),
+                pair: Some((r.tri_a, r.tri_b)),
+                contacts: None,
+            });
+            if let Some(m) = c.margin {
+                let cs = e
+                    .mesh_contacts(
+                        &built[c.a.as_str()],
+                        &pose(&c.pa),
+                        &built[c.b.as_str()],
+                        &pose(&c.pb),
+                        T::from_f64(m),
+                        None,
+                    )
+                    .map_err(|x| Fail(format!("{}: {x}", c.label)))?;
+                let mut v: Vec<(usize, usize)> = cs.iter().map(|c| (c.tri_a, c.tri_b)).collect();
+                v.sort_unstable();
+                ans.contacts = Some(v);
+            }
+            Ok(ans)
         })
         .collect()
 }
@@ -471,16 +545,13 @@ pub(crate) fn answers(
                 .map(|c| match (&built[c.a.as_str()], &built[c.b.as_str()]) {
                     (Some(a), Some(b)) => {
                         let d = a.distance(&c.pa, b, &c.pb);
-                        (
-                            if lib == MeshLib::TrueFormAabbF32 {
-                                f64::from((d as f32) * (d as f32))
-                            } else {
-                                d * d
-                            },
-                            None,
-                        )
+                        MeshAnswer::distance(if lib == MeshLib::TrueFormAabbF32 {
+                            f64::from((d as f32) * (d as f32))
+                        } else {
+                            d * d
+                        })
                     }
-                    _ => (f64::NAN, None),
+                    _ => MeshAnswer::distance(f64::NAN),
                 })
                 .collect())
         }
@@ -507,10 +578,11 @@ pub(crate) fn cmd_mesh_eval(a: &MeshEvalArgs) -> Result<ExitCode, Fail> {
             })?)
         }
     };
-    for (c, (d, pair)) in cases.iter().zip(answers(who, &cases, &meshes)?) {
-        let d = if d.is_nan() { "error".to_string() } else { format!("{d:?}") };
-        let pair = pair.map_or(String::new(), |(i, j)| format!(" {i} {j}"));
-        outln!("{} {d}{pair}", c.label);
+    for (c, x) in cases.iter().zip(answers(who, &cases, &meshes)?) {
+        let d = if x.d2.is_nan() { "error".to_string() } else { format!("{:?}", x.d2) };
+        let pair = x.pair.map_or(String::new(), |(i, j)| format!(" {i} {j}"));
+        let contacts = x.contacts.map_or(String::new(), |v| format!(" contacts={}", pairs_text(&v)));
+        outln!("{} {d}{pair}{contacts}", c.label);
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -528,6 +600,9 @@ pub(crate) struct MeshJudged {
     pub nonfinite: bool,
     /// The reported pair's exact distance is farther than [`WRONG`] `u S` from the minimum.
     pub wrong_pair: bool,
+    /// Contacts missed (exactly within the margin less [`WRONG`] `u S`, not reported) and
+    /// extra (reported, exactly beyond the margin plus [`WRONG`] `u S`); None: not judged.
+    pub contacts: Option<(usize, usize)>,
 }
 
 pub(crate) fn metrics_precision(p: Prec) -> Precision {
@@ -548,7 +623,8 @@ pub(crate) fn judge_mesh(
     cases
         .iter()
         .zip(answers)
-        .map(|(c, &(d2, pair))| {
+        .map(|(c, x)| {
+            let (d2, pair) = (x.d2, x.pair);
             let exact = c.exact.as_ref().ok_or_else(|| Fail(format!("line {}: no exact answer", c.line)))?;
             let (a, b) = (&meshes[&c.a], &meshes[&c.b]);
             let s = scene_magnitude(a, &c.pa, b, &c.pb).map_err(|e| Fail(format!("line {}: {e}", c.line)))?;
@@ -568,7 +644,25 @@ pub(crate) fn judge_mesh(
                 },
                 None => false,
             };
+            let contacts = match (&c.contacts, &x.contacts, c.margin) {
+                (Some(truth), Some(got), Some(m)) => {
+                    let d = |i: usize, j: usize| {
+                        pair_d2(a, &c.pa, b, &c.pb, i, j).map(|r| r.to_f64().sqrt()).unwrap_or(f64::INFINITY)
+                    };
+                    let missed = truth
+                        .iter()
+                        .filter(|p| got.binary_search(p).is_err() && d(p.0, p.1) <= m - WRONG * us)
+                        .count();
+                    let extra = got
+                        .iter()
+                        .filter(|p| truth.binary_search(p).is_err() && d(p.0, p.1) > m + WRONG * us)
+                        .count();
+                    Some((missed, extra))
+                }
+                _ => None,
+            };
             Ok(MeshJudged {
+                contacts,
                 excess: if e.is_nan() { f64::INFINITY } else { e },
                 wrong: nonfinite || e.is_nan() || e > WRONG,
                 contact_miss: contact_miss(d2, exact, s, pr, CONTACT_C),

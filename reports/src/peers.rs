@@ -391,9 +391,11 @@ fn mesh_section(root: &Path, dir: &Path) -> Result<String, Fail> {
          E is measured in that precision's u, with S the largest coordinate of the placed meshes. A \
          **wrong distance** is one beyond {} u S (MESH.md's threshold) or none; a **wrong pair** a reported \
          triangle pair whose exact distance exceeds the minimum by more than that (only tridist reports its \
-         pair here).\n\n\
-         | library | version | configuration | precision | families | cases | worst E | wrong distances | false zeros | contact misses | non-finite | wrong pairs |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+         pair here). **Contacts**: at the close scenes, the triangle pairs within a margin of 1 % of the \
+         size, against the exact set: missed (exactly within the margin less that bound, not reported) and \
+         extra (reported, exactly beyond the margin plus that bound); only tridist has such a query here.\n\n\
+         | library | version | configuration | precision | families | cases | worst E | wrong distances | false zeros | contact misses | non-finite | wrong pairs | contacts missed / extra |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
         cases.len(),
         {
             let mut names: Vec<&str> = meshes.keys().map(String::as_str).collect();
@@ -415,7 +417,7 @@ fn mesh_section(root: &Path, dir: &Path) -> Result<String, Fail> {
         let answers = match meshcases::answers(who, &cases, &meshes) {
             Ok(a) => a,
             Err(Fail(why)) => {
-                let _ = writeln!(s, "{head}| not built: {why} | | | | | | | |");
+                let _ = writeln!(s, "{head}| not built: {why} | | | | | | | | |");
                 continue;
             }
         };
@@ -432,10 +434,22 @@ fn mesh_section(root: &Path, dir: &Path) -> Result<String, Fail> {
             list(|j| j.nonfinite),
             list(|j| j.wrong_pair),
         );
-        let reports_pairs = answers.iter().any(|a| a.1.is_some());
+        let reports_pairs = answers.iter().any(|a| a.pair.is_some());
+        let judged: Vec<(usize, usize)> = js.iter().filter_map(|j| j.contacts).collect();
+        let contacts = if judged.is_empty() {
+            "no contact query".to_string()
+        } else {
+            format!(
+                "{} / {} ({} cases)",
+                judged.iter().map(|c| c.0).sum::<usize>(),
+                judged.iter().map(|c| c.1).sum::<usize>(),
+                judged.len()
+            )
+        };
+        let contact_faults = list(|j| j.contacts.is_some_and(|c| c.0 + c.1 > 0));
         let _ = writeln!(
             s,
-            "{head}| {} | {} | {} | {} | {} | {} | {} | {} |",
+            "{head}| {} | {} | {} | {} | {} | {} | {} | {} | {contacts} |",
             fams.len(),
             cases.len(),
             fmt(js[worst].excess),
@@ -452,6 +466,7 @@ fn mesh_section(root: &Path, dir: &Path) -> Result<String, Fail> {
             ("contact misses", &cm),
             ("non-finite", &nf),
             ("wrong pairs", &wp),
+            ("contacts missed or extra", &contact_faults),
         ] {
             if !v.is_empty() {
                 items.push(format!("{what}: {}", places(v)));

@@ -172,6 +172,14 @@ fn the_mesh_corpus_answers_are_exact() {
         if x.d2 != 0 {
             assert_eq!(f[28], format!("pair={},{}", x.tri_a, x.tri_b), "{}", f[0]);
         }
+        if let Some(list) = f.iter().find_map(|x| x.strip_prefix("contacts=")) {
+            let margin: f64 = f.iter().find_map(|x| x.strip_prefix("margin=")).unwrap().parse().unwrap();
+            let got =
+                tridist_scenes::mesh_exact::contacts_exact(&a, &pose(&n[..12]), &b, &pose(&n[12..]), margin)
+                    .unwrap();
+            let text: Vec<String> = got.iter().map(|(i, j)| format!("{i},{j}")).collect();
+            assert_eq!(list, text.join(";"), "{}", f[0]);
+        }
         checked += 1;
     }
     assert!(checked >= 7, "{seen:?}");
@@ -221,6 +229,7 @@ fn mesh_table_has_every_library_and_tridist_conforms() {
         assert_eq!(r[5], keep.len().to_string(), "{r:?}");
         assert!(r[6].parse::<f64>().unwrap() <= 8.0, "{r:?}");
         assert_eq!(&r[7..12], ["0", "0", "0", "0", "0"], "{r:?}");
+        assert!(r[12].starts_with("0 / 0 (") && !r[12].starts_with("0 / 0 (0 "), "{r:?}");
     }
     assert_eq!(rows.iter().filter(|r| r[0] == "parry3d").count(), 2);
     for lib in tridist_scenes::mesh_peer::MeshLib::JUDGED {
@@ -231,8 +240,9 @@ fn mesh_table_has_every_library_and_tridist_conforms() {
 }
 
 /// `tridist mesh-eval` answers a mesh case file and `tridist judge --mesh` judges it: tridist
-/// passes; a planted wrong distance, a swapped triangle pair and a dropped answer are each
-/// caught (the first two named by their case-file line, the last a line-numbered error).
+/// passes; a planted wrong distance, a swapped triangle pair, a dropped contact, an extra
+/// contact and a dropped answer are each caught (the first four named by their case-file line,
+/// the last an error).
 #[test]
 fn mesh_answers_are_judged_and_faults_caught() {
     let (d, keep) = mesh_subset("judge");
@@ -266,6 +276,18 @@ fn mesh_answers_are_judged_and_faults_caught() {
     let (code, out, _) = judge(&(swapped.join("\n") + "\n"));
     assert_eq!(code, 1, "{out}");
     assert!(out.contains(&format!(" lines {}\n", j + 1)), "{out}");
+    // a dropped contact and an extra one, in a case with contacts
+    let c = lines.iter().position(|l| l.contains("contacts=") && l.matches(';').count() >= 3).unwrap();
+    let (head, list) = lines[c].split_once(" contacts=").unwrap();
+    let pairs: Vec<&str> = list.split(';').collect();
+    for (what, list) in [("dropped", pairs[1..].join(";")), ("extra", format!("{list};999,999"))] {
+        let mut planted = lines.clone();
+        planted[c] = format!("{head} contacts={list}");
+        let (code, out, err) = judge(&(planted.join("\n") + "\n"));
+        // (an index beyond the mesh is no pair at all: an extra contact)
+        assert_eq!(code, 1, "{what}: {out}{err}");
+        assert!(out.contains(&format!(" lines {}\n", c + 1)), "{what}: {out}");
+    }
     // a dropped answer
     let (code, _, err) = judge(&(lines[..lines.len() - 1].join("\n") + "\n"));
     assert_eq!(code, 3);

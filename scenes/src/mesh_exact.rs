@@ -149,6 +149,95 @@ pub fn pair_d2(
     Ok(tridist_oracle::triangle_triangle(&xa.tri_exact(i)?, &xb.tri_exact(j)?).d2)
 }
 
+/// The triangle pairs whose padded boxes are within `upper` of each other: the triangles of
+/// each mesh within reach of the other's whole box, then a sweep along the axis where those
+/// boxes are farthest apart.
+fn candidates(xa: &Placed<'_>, xb: &Placed<'_>, upper: f64) -> Result<Vec<(usize, usize)>, String> {
+    let whole = |bs: &[([f64; 3], [f64; 3])]| {
+        bs.iter().fold(([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]), |(lo, hi), b| {
+            ([0, 1, 2].map(|k| lo[k].min(b.0[k])), [0, 1, 2].map(|k| hi[k].max(b.1[k])))
+        })
+    };
+    let (wa, wb) = (whole(&xa.boxes), whole(&xb.boxes));
+    let near = |bs: &[([f64; 3], [f64; 3])], w: &([f64; 3], [f64; 3])| -> Vec<usize> {
+        (0..bs.len()).filter(|&i| box_gap(&bs[i], w) <= upper).collect()
+    };
+    let (ia, ib) = (near(&xa.boxes, &wb), near(&xb.boxes, &wa));
+    let ax = (0..3)
+        .max_by(|&i, &j| {
+            let g = |k: usize| (wb.0[k] - wa.1[k]).max(wa.0[k] - wb.1[k]);
+            g(i).total_cmp(&g(j))
+        })
+        .unwrap_or(0);
+    let mut order = ib;
+    order.sort_by(|&i, &j| xb.boxes[i].0[ax].total_cmp(&xb.boxes[j].0[ax]));
+    let width = order.iter().map(|&i| xb.boxes[i].1[ax] - xb.boxes[i].0[ax]).fold(0.0f64, f64::max);
+    let los: Vec<f64> = order.iter().map(|&i| xb.boxes[i].0[ax]).collect();
+    let mut cand = Vec::new();
+    for i in ia {
+        let ba = &xa.boxes[i];
+        let from = los.partition_point(|&x| x < ba.0[ax] - upper - width);
+        for &j in &order[from..] {
+            let bb = &xb.boxes[j];
+            if bb.0[ax] > ba.1[ax] + upper {
+                break;
+            }
+            if box_gap(ba, bb) <= upper {
+                cand.push((i, j));
+                if cand.len() > MAX_CANDIDATES {
+                    return Err(format!("more than {MAX_CANDIDATES} candidate pairs"));
+                }
+            }
+        }
+    }
+    Ok(cand)
+}
+
+/// Every triangle pair of mesh `a` in pose `pa` and `b` in `pb` whose exact distance is at
+/// most `margin` (exactly placed, as [`mesh_exact`]), in order of the first mesh's triangle,
+/// then the second's: the pairs whose distance on the f64 placement is farther than the
+/// placement's error bound from the margin are decided by it, the others exactly.
+///
+/// # Errors
+/// An empty mesh, a negative or non-finite margin, a non-finite coordinate or pose, or more
+/// than [`MAX_CANDIDATES`] candidate pairs.
+pub fn contacts_exact(
+    a: &Mesh,
+    pa: &Pose<f64>,
+    b: &Mesh,
+    pb: &Pose<f64>,
+    margin: f64,
+) -> Result<Vec<(usize, usize)>, String> {
+    if a.triangles.is_empty() || b.triangles.is_empty() {
+        return Err("an empty mesh".into());
+    }
+    if !(margin.is_finite() && margin >= 0.0) {
+        return Err(format!("margin {margin} is not a finite non-negative number"));
+    }
+    let (xa, xb) = (Placed::new(a, pa)?, Placed::new(b, pb)?);
+    let s = xa.magnitude().max(xb.magnitude());
+    let m = 4.0 * (xa.delta + xb.delta);
+    let upper = margin * (1.0 + 1e-9) + m + 4.0 * f64::EPSILON * s;
+    let mu = Rational::from_f64(margin).ok_or("a non-finite margin")?;
+    let mu2 = mu.clone() * mu;
+    let mut out = Vec::new();
+    for (i, j) in candidates(&xa, &xb, upper)? {
+        let df = tridist_oracle::triangle_triangle(&xa.tri_f64(i)?, &xb.tri_f64(j)?).d2.to_f64().sqrt();
+        let inside = if df * (1.0 + 1e-9) + m < margin * (1.0 - 1e-9) {
+            true
+        } else if df * (1.0 - 1e-9) - m > margin * (1.0 + 1e-9) {
+            false
+        } else {
+            tridist_oracle::triangle_triangle(&xa.tri_exact(i)?, &xb.tri_exact(j)?).d2 <= mu2
+        };
+        if inside {
+            out.push((i, j));
+        }
+    }
+    out.sort_unstable();
+    Ok(out)
+}
+
 /// The lower bound of the distance between two boxes (0 when they overlap).
 fn box_gap(a: &([f64; 3], [f64; 3]), b: &([f64; 3], [f64; 3])) -> f64 {
     let g = |k: usize| (b.0[k] - a.1[k]).max(a.0[k] - b.1[k]).max(0.0);
@@ -187,45 +276,9 @@ fn from_pair(xa: &Placed<'_>, xb: &Placed<'_>, start: (usize, usize)) -> Result<
         return Ok(MeshExact { d2: best.0, tri_a: best.1, tri_b: best.2, s, candidates: (0, 1) });
     }
     let upper = best.0.to_f64().sqrt() * (1.0 + 1e-9) + m + 4.0 * f64::EPSILON * s;
-    // 2. candidates: the triangles of each mesh within reach of the other's whole box, then a
-    // sweep along the axis where those boxes are farthest apart
-    let whole = |bs: &[([f64; 3], [f64; 3])]| {
-        bs.iter().fold(([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]), |(lo, hi), b| {
-            ([0, 1, 2].map(|k| lo[k].min(b.0[k])), [0, 1, 2].map(|k| hi[k].max(b.1[k])))
-        })
-    };
-    let (wa, wb) = (whole(&xa.boxes), whole(&xb.boxes));
-    let near = |bs: &[([f64; 3], [f64; 3])], w: &([f64; 3], [f64; 3])| -> Vec<usize> {
-        (0..bs.len()).filter(|&i| box_gap(&bs[i], w) <= upper).collect()
-    };
-    let (ia, ib) = (near(&xa.boxes, &wb), near(&xb.boxes, &wa));
-    let ax = (0..3)
-        .max_by(|&i, &j| {
-            let g = |k: usize| (wb.0[k] - wa.1[k]).max(wa.0[k] - wb.1[k]);
-            g(i).total_cmp(&g(j))
-        })
-        .unwrap_or(0);
-    let mut order = ib;
-    order.sort_by(|&i, &j| xb.boxes[i].0[ax].total_cmp(&xb.boxes[j].0[ax]));
-    let width = order.iter().map(|&i| xb.boxes[i].1[ax] - xb.boxes[i].0[ax]).fold(0.0f64, f64::max);
-    let los: Vec<f64> = order.iter().map(|&i| xb.boxes[i].0[ax]).collect();
-    let mut cand: Vec<(f64, usize, usize)> = Vec::new();
-    for i in ia {
-        let ba = &xa.boxes[i];
-        let from = los.partition_point(|&x| x < ba.0[ax] - upper - width);
-        for &j in &order[from..] {
-            let bb = &xb.boxes[j];
-            if bb.0[ax] > ba.1[ax] + upper {
-                break;
-            }
-            if box_gap(ba, bb) <= upper {
-                cand.push((0.0, i, j));
-                if cand.len() > MAX_CANDIDATES {
-                    return Err(format!("more than {MAX_CANDIDATES} candidate pairs"));
-                }
-            }
-        }
-    }
+    // 2. candidates
+    let mut cand: Vec<(f64, usize, usize)> =
+        candidates(xa, xb, upper)?.into_iter().map(|(i, j)| (0.0, i, j)).collect();
     // 3. each candidate exactly on the f64 placement, then in ascending order on the exact one
     for c in &mut cand {
         let d2 = tridist_oracle::triangle_triangle(&xa.tri_f64(c.1)?, &xb.tri_f64(c.2)?).d2;
@@ -330,6 +383,41 @@ mod tests {
             positive += usize::from(d > 0.0);
         }
         assert!(positive >= 2, "{positive}");
+    }
+
+    /// The exact contact set is the brute force's: every pair at most the margin apart,
+    /// exactly, on two tetrahedra in a rotated pose, at margins around their distance.
+    #[test]
+    fn contacts_are_the_brute_force_set() {
+        let m = tetra();
+        let id = Pose::identity();
+        let p = Pose::from_axis_angle([1.0, 2.0, 3.0], 0.4, [1.2, 0.3, 0.1]).unwrap();
+        let (xa, xb) = (Placed::new(&m, &id).unwrap(), Placed::new(&m, &p).unwrap());
+        let d2: Vec<Vec<Rational>> = (0..4)
+            .map(|i| {
+                (0..4)
+                    .map(|j| {
+                        tridist_oracle::triangle_triangle(
+                            &xa.tri_exact(i).unwrap(),
+                            &xb.tri_exact(j).unwrap(),
+                        )
+                        .d2
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut sizes = Vec::new();
+        for margin in [0.0, 0.05, 0.2, 0.5, 1.0, 3.0] {
+            let mu = Rational::from_f64(margin).unwrap();
+            let mu2 = mu.clone() * mu;
+            let brute: Vec<(usize, usize)> =
+                (0..4).flat_map(|i| (0..4).map(move |j| (i, j))).filter(|&(i, j)| d2[i][j] <= mu2).collect();
+            assert_eq!(contacts_exact(&m, &id, &m, &p, margin).unwrap(), brute, "margin {margin}");
+            sizes.push(brute.len());
+        }
+        assert!(sizes.first() < sizes.last() && sizes.last() == Some(&16), "{sizes:?}");
+        assert!(contacts_exact(&m, &id, &m, &p, f64::NAN).is_err());
+        assert!(contacts_exact(&m, &id, &m, &p, -1.0).is_err());
     }
 
     /// The placement is exact: a translation by a value whose product with the vertices is
