@@ -55,8 +55,9 @@ pub(crate) struct MeshEvalArgs {
     /// The mesh case file.
     #[arg(long, value_name = "FILE")]
     cases: PathBuf,
-    /// Answer with this mesh peer instead of tridist: fcl, fcl-rss, coal, coal-rss,
-    /// trueform-aabb-f32, trueform-aabb-f64, trueform-obbrss-f64, parry3d.
+    /// Answer with this mesh peer instead of tridist: fcl, fcl-rss, fcl-kios, coal, coal-rss,
+    /// coal-kios, trueform-obb-f64, trueform-aabb-f32, trueform-aabb-f64, trueform-obbrss-f64,
+    /// parry3d.
     #[arg(long)]
     peer: Option<String>,
     /// tridist's (and parry's) precision.
@@ -405,11 +406,14 @@ impl MeshAnswer {
 }
 
 /// The `--peer` names of `mesh-eval`.
-pub(crate) const PEER_NAMES: [(&str, MeshLib); 7] = [
+pub(crate) const PEER_NAMES: [(&str, MeshLib); 10] = [
     ("fcl", MeshLib::Fcl),
     ("fcl-rss", MeshLib::FclRss),
+    ("fcl-kios", MeshLib::FclKios),
     ("coal", MeshLib::Coal),
     ("coal-rss", MeshLib::CoalRss),
+    ("coal-kios", MeshLib::CoalKios),
+    ("trueform-obb-f64", MeshLib::TrueFormObbF64),
     ("trueform-aabb-f32", MeshLib::TrueFormAabbF32),
     ("trueform-aabb-f64", MeshLib::TrueFormAabbF64),
     ("trueform-obbrss-f64", MeshLib::TrueFormObbrssF64),
@@ -703,8 +707,12 @@ pub(crate) fn contenders() -> Vec<(MeshContender, String, String, String)> {
     }
     for lib in MeshLib::JUDGED {
         let (name, version) = match lib {
-            MeshLib::Fcl | MeshLib::FclRss => ("fcl", tridist_scenes::peer::Lib::Fcl.version()),
-            MeshLib::Coal | MeshLib::CoalRss => ("coal", tridist_scenes::peer::Lib::Coal.version()),
+            MeshLib::Fcl | MeshLib::FclRss | MeshLib::FclKios => {
+                ("fcl", tridist_scenes::peer::Lib::Fcl.version())
+            }
+            MeshLib::Coal | MeshLib::CoalRss | MeshLib::CoalKios => {
+                ("coal", tridist_scenes::peer::Lib::Coal.version())
+            }
             _ => ("trueform", tridist_scenes::peer::Lib::TrueForm.version()),
         };
         v.push((MeshContender::Peer(lib), name.into(), version.into(), lib.name().to_string()));

@@ -314,14 +314,18 @@ fn every_adapter_answers_a_tiny_case_file_or_says_why_not() {
     }
     let (d, keep) = mesh_subset("adapters");
     let c = d.join("mesh.cases").display().to_string();
+    use tridist_scenes::mesh_peer::MeshLib;
     for (name, lib) in [
-        ("fcl", tridist_scenes::mesh_peer::MeshLib::Fcl),
-        ("fcl-rss", tridist_scenes::mesh_peer::MeshLib::FclRss),
-        ("coal", tridist_scenes::mesh_peer::MeshLib::Coal),
-        ("coal-rss", tridist_scenes::mesh_peer::MeshLib::CoalRss),
-        ("trueform-aabb-f32", tridist_scenes::mesh_peer::MeshLib::TrueFormAabbF32),
-        ("trueform-aabb-f64", tridist_scenes::mesh_peer::MeshLib::TrueFormAabbF64),
-        ("trueform-obbrss-f64", tridist_scenes::mesh_peer::MeshLib::TrueFormObbrssF64),
+        ("fcl", MeshLib::Fcl),
+        ("fcl-rss", MeshLib::FclRss),
+        ("fcl-kios", MeshLib::FclKios),
+        ("coal", MeshLib::Coal),
+        ("coal-rss", MeshLib::CoalRss),
+        ("coal-kios", MeshLib::CoalKios),
+        ("trueform-aabb-f32", MeshLib::TrueFormAabbF32),
+        ("trueform-aabb-f64", MeshLib::TrueFormAabbF64),
+        ("trueform-obbrss-f64", MeshLib::TrueFormObbrssF64),
+        ("trueform-obb-f64", MeshLib::TrueFormObbF64),
     ] {
         let (code, out, err) = tridist(&["mesh-eval", "--cases", &c, "--peer", name], "");
         if lib.available() {

@@ -8,6 +8,7 @@
 // new(nv, v, nt, t, config) / free / distance / collide, poses as rotation rows and translation.
 #include <coal/BV/OBBRSS.h>
 #include <coal/BV/RSS.h>
+#include <coal/BV/kIOS.h>
 #include <coal/BVH/BVH_model.h>
 #include <coal/collision.h>
 #include <coal/distance.h>
@@ -68,14 +69,15 @@ struct Model final : Base {
 };
 }  // namespace
 
-// The model of nv vertices and nt triangles, its tree built. config: 0 OBBRSS, 1 RSS (the
-// bounding volumes Coal's distance query offers for meshes besides kIOS); two models are
+// The model of nv vertices and nt triangles, its tree built. config: 0 OBBRSS, 1 RSS, 2 kIOS
+// (the bounding volumes Coal's distance query offers for meshes); two models are
 // queried together only when their configs are equal. Null for an unknown config.
 extern "C" void* tridist_coal_mesh_new(std::size_t nv, const double* v, std::size_t nt, const std::uint32_t* t,
                                        std::uint32_t config) {
   switch (config) {
     case 0: return static_cast<Base*>(new Model<coal::OBBRSS>(nv, v, nt, t));
     case 1: return static_cast<Base*>(new Model<coal::RSS>(nv, v, nt, t));
+    case 2: return static_cast<Base*>(new Model<coal::kIOS>(nv, v, nt, t));
     default: return nullptr;
   }
 }

@@ -9,6 +9,7 @@
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/math/bv/OBBRSS.h>
 #include <fcl/math/bv/RSS.h>
+#include <fcl/math/bv/kIOS.h>
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
@@ -70,14 +71,15 @@ struct Model final : Base {
 
 // The model of nv vertices (3 coordinates each) and nt triangles (3 indices each), its tree
 // built; free with tridist_fcl_mesh_free. config (the mesh peers' common C ABI,
-// scenes/src/mesh_peer.rs): 0 OBBRSS, 1 RSS, the two bounding volumes FCL's distance query
-// offers for meshes besides kIOS; two models are queried together only when their configs are
+// scenes/src/mesh_peer.rs): 0 OBBRSS, 1 RSS, 2 kIOS, the bounding volumes FCL's distance query
+// offers for meshes; two models are queried together only when their configs are
 // equal. Null for an unknown config.
 extern "C" void* tridist_fcl_mesh_new(std::size_t nv, const double* v, std::size_t nt, const std::uint32_t* t,
                                       std::uint32_t config) {
   switch (config) {
     case 0: return static_cast<Base*>(new Model<fcl::OBBRSSd>(nv, v, nt, t));
     case 1: return static_cast<Base*>(new Model<fcl::RSSd>(nv, v, nt, t));
+    case 2: return static_cast<Base*>(new Model<fcl::kIOSd>(nv, v, nt, t));
     default: return nullptr;
   }
 }

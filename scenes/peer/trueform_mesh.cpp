@@ -89,13 +89,14 @@ tbb::global_control* threads = nullptr;
 // The model of nv vertices and nt triangles, its tree built with 4 children per node and 4
 // triangles per leaf (`tf::config_tree(4, 4)`, as TrueForm's own benchmarks build it). config:
 // 0 axis-aligned boxes in float (TrueForm's benchmarks), 1 axis-aligned boxes in double,
-// 2 OBBRSS in double. Two models are queried together only when their configs are equal.
+// 2 OBBRSS in double, 3 oriented boxes in double. Two models are queried together only when their configs are equal.
 extern "C" void* tridist_trueform_mesh_new(std::size_t nv, const double* v, std::size_t nt, const std::uint32_t* t,
                                            std::uint32_t config) {
   switch (config) {
     case 0: return static_cast<Base*>(new Model<float, tf::aabb_tree<int, float, 3>>(nv, v, nt, t));
     case 1: return static_cast<Base*>(new Model<double, tf::aabb_tree<int, double, 3>>(nv, v, nt, t));
     case 2: return static_cast<Base*>(new Model<double, tf::obbrss_tree<int, double, 3>>(nv, v, nt, t));
+    case 3: return static_cast<Base*>(new Model<double, tf::obb_tree<int, double, 3>>(nv, v, nt, t));
     default: return nullptr;
   }
 }

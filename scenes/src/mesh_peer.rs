@@ -23,6 +23,12 @@ pub enum MeshLib {
     FclRss,
     /// Coal, `BVHModel<RSS>` (judged in the conformance table, not timed).
     CoalRss,
+    /// FCL, `BVHModel<kIOS<double>>` (judged, not timed).
+    FclKios,
+    /// Coal, `BVHModel<kIOS>` (judged, not timed).
+    CoalKios,
+    /// TrueForm, oriented boxes in double (4 and 4; judged, not timed).
+    TrueFormObbF64,
     /// TrueForm (PyPI `trueform`), axis-aligned boxes in float, 4 children per node and 4
     /// triangles per leaf: the configuration of TrueForm's own mesh distance benchmark.
     TrueFormAabbF32,
@@ -42,15 +48,18 @@ impl MeshLib {
         MeshLib::TrueFormObbrssF64,
     ];
     /// Every configuration the conformance table judges: [`MeshLib::ALL`] and the other
-    /// bounding volumes FCL's and Coal's distance queries offer.
-    pub const JUDGED: [MeshLib; 7] = [
+    /// bounding volumes FCL's and Coal's distance queries and TrueForm's trees offer.
+    pub const JUDGED: [MeshLib; 10] = [
         MeshLib::Fcl,
         MeshLib::FclRss,
+        MeshLib::FclKios,
         MeshLib::Coal,
         MeshLib::CoalRss,
+        MeshLib::CoalKios,
         MeshLib::TrueFormAabbF32,
         MeshLib::TrueFormAabbF64,
         MeshLib::TrueFormObbrssF64,
+        MeshLib::TrueFormObbF64,
     ];
 
     /// The name reports print.
@@ -60,6 +69,9 @@ impl MeshLib {
             MeshLib::Coal => "Coal (OBBRSS, double)",
             MeshLib::FclRss => "FCL (RSS, double)",
             MeshLib::CoalRss => "Coal (RSS, double)",
+            MeshLib::FclKios => "FCL (kIOS, double)",
+            MeshLib::CoalKios => "Coal (kIOS, double)",
+            MeshLib::TrueFormObbF64 => "TrueForm (OBB, double)",
             MeshLib::TrueFormAabbF32 => "TrueForm (AABB, float)",
             MeshLib::TrueFormAabbF64 => "TrueForm (AABB, double)",
             MeshLib::TrueFormObbrssF64 => "TrueForm (OBBRSS, double)",
@@ -74,7 +86,9 @@ impl MeshLib {
     /// How to get this peer when it was not built.
     pub fn how_to_get(self) -> &'static str {
         match self {
-            MeshLib::Fcl | MeshLib::FclRss => "apt-get install libfcl-dev libeigen3-dev, then rebuild",
+            MeshLib::Fcl | MeshLib::FclRss | MeshLib::FclKios => {
+                "apt-get install libfcl-dev libeigen3-dev, then rebuild"
+            }
             _ => "bash scenes/peer/install.sh, then rebuild",
         }
     }
@@ -87,6 +101,8 @@ impl MeshLib {
             MeshLib::TrueFormObbrssF64 => 2,
             MeshLib::Fcl | MeshLib::Coal => 0,
             MeshLib::FclRss | MeshLib::CoalRss => 1,
+            MeshLib::FclKios | MeshLib::CoalKios => 2,
+            MeshLib::TrueFormObbF64 => 3,
         }
     }
 }
@@ -158,11 +174,14 @@ extern "C" {
 fn abi(lib: MeshLib) -> Option<&'static Abi> {
     match lib {
         #[cfg(tridist_fcl_mesh)]
-        MeshLib::Fcl | MeshLib::FclRss => Some(&FCL),
+        MeshLib::Fcl | MeshLib::FclRss | MeshLib::FclKios => Some(&FCL),
         #[cfg(tridist_coal)]
-        MeshLib::Coal | MeshLib::CoalRss => coal::abi(),
+        MeshLib::Coal | MeshLib::CoalRss | MeshLib::CoalKios => coal::abi(),
         #[cfg(tridist_trueform)]
-        MeshLib::TrueFormAabbF32 | MeshLib::TrueFormAabbF64 | MeshLib::TrueFormObbrssF64 => Some(&TRUEFORM),
+        MeshLib::TrueFormAabbF32
+        | MeshLib::TrueFormAabbF64
+        | MeshLib::TrueFormObbrssF64
+        | MeshLib::TrueFormObbF64 => Some(&TRUEFORM),
         #[allow(unreachable_patterns)]
         _ => None,
     }
