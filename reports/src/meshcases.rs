@@ -324,8 +324,17 @@ pub(crate) fn cmd_mesh_cases(a: &MeshCasesArgs) -> Result<ExitCode, Fail> {
         .iter()
         .map(|(n, m)| Ok((*n, Mesh::parse_off(&off_text(m)).map_err(|e| Fail(format!("{n}: {e}")))?)))
         .collect::<Result<_, Fail>>()?;
-    let arm = Mesh::load(&dir.join(ARMADILLO)).map_err(|e| Fail(format!("{ARMADILLO}: {e}")))?;
+    // the carried Armadillo, named from corpus/mesh; written beside the cases when they go
+    // elsewhere (--out)
+    let carried = tridist_scenes::mesh::data_dir().join("armadillo.off");
+    let arm = Mesh::load(&carried).map_err(|e| Fail(format!("{}: {e}", carried.display())))?;
     by_name.insert(ARMADILLO, arm.clone());
+    let in_repo = dir.join(ARMADILLO).canonicalize().ok() == carried.canonicalize().ok();
+    let arm_name = if in_repo { ARMADILLO } else { "armadillo.off" };
+    if !in_repo {
+        std::fs::copy(&carried, dir.join(arm_name)).map_err(|e| Fail(format!("{}: {e}", dir.display())))?;
+    }
+    let file_name = |n: &'static str| if n == ARMADILLO { arm_name } else { n };
     if by_name["part.off"] != part {
         return Err(Fail("part.off does not parse back to the same values".into()));
     }
@@ -339,7 +348,9 @@ pub(crate) fn cmd_mesh_cases(a: &MeshCasesArgs) -> Result<ExitCode, Fail> {
             mesh_exact(&by_name[ma], &pa, &by_name[mb], &pb).map_err(|e| Fail(format!("{label}: {e}")))?;
         let _ = writeln!(
             s,
-            "{label} {ma} {mb} {} {} exact={}/{} pair={},{}",
+            "{label} {} {} {} {} exact={}/{} pair={},{}",
+            file_name(ma),
+            file_name(mb),
             pose_text(&pa),
             pose_text(&pb),
             x.d2.numer(),
