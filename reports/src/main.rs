@@ -98,7 +98,8 @@ enum Cmd {
     /// Reads the cases and one answer per case (squared distance, optionally the closest
     /// points; `nan`, `inf`, `error` allowed; verdict words for intersect) and prints the
     /// per-family table of the reports. Exit status 1 when a limit is exceeded, 3 on a
-    /// malformed or misaligned file (with its line number).
+    /// malformed or misaligned file (with its line number). With --mesh, mesh case files
+    /// (`tridist mesh-cases`) and their answers.
     Judge(judge::JudgeArgs),
     /// Judge every peer built in, and tridist, on the committed corpus: reports/PEERS.md.
     ///
