@@ -27,6 +27,7 @@ fn main() {
     println!("cargo:rustc-check-cfg=cfg(tridist_trueform)");
     println!("cargo:rerun-if-changed=peer/coal_mesh.cpp");
     println!("cargo:rerun-if-changed=peer/trueform_mesh.cpp");
+    println!("cargo:rerun-if-changed=peer/mesh_abi.h");
     println!("cargo:rerun-if-changed=build.rs");
     if std::env::var_os("CARGO_FEATURE_PEERS").is_none() {
         return;

@@ -175,6 +175,15 @@ struct Answer<T> {
     verdict: Intersection,
 }
 
+/// An answered squared distance: a number, or `nan`, `error` (none) or `inf`.
+fn answer_number<T: Float>(s: &str) -> Result<T, String> {
+    match s {
+        "nan" | "NaN" | "error" => Ok(T::from_f64(f64::NAN)),
+        "inf" | "+inf" => Ok(T::INFINITY),
+        _ => s.parse::<T>().map_err(|_| format!("not a number: {s:?}")),
+    }
+}
+
 fn is_answer_word(s: &str) -> bool {
     matches!(s, "nan" | "NaN" | "inf" | "+inf" | "error" | "intersecting" | "disjoint" | "invalid")
         || s.parse::<f64>().is_ok()
@@ -192,13 +201,7 @@ fn parse_answer<T: Float>(line: &str, case: &Case<T>, q: Query) -> Result<Answer
         }
         toks.remove(0);
     }
-    let num = |s: &str| -> Result<T, String> {
-        match s {
-            "nan" | "NaN" | "error" => Ok(T::from_f64(f64::NAN)),
-            "inf" | "+inf" => Ok(T::INFINITY),
-            _ => s.parse::<T>().map_err(|_| format!("not a number: {s:?}")),
-        }
-    };
+    let num = answer_number::<T>;
     if q.is_verdict() {
         let [w] = toks[..] else {
             return Err(format!("expected one verdict word, found {} fields", toks.len()));
@@ -296,11 +299,10 @@ fn judge_as<T: Float>(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Re
         )));
     }
     // Bad input (a non-finite coordinate) apart: right only when answered "no distance".
-    let finite = |c: &Case<T>| c.a.iter().chain(c.b.iter()).flatten().all(|x| x.is_finite());
     let (mut cases, mut exact, mut ans) = (Vec::new(), Vec::new(), Vec::new());
     let mut bad = BadInput::default();
     for ((c, e), x) in all.into_iter().zip(all_exact).zip(all_ans) {
-        if finite(&c) {
+        if c.is_finite() {
             cases.push(c);
             exact.push(e);
             ans.push(x);
@@ -509,10 +511,8 @@ fn judge_mesh_files(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Resu
             }
             t.remove(0);
         }
-        let d2 = match t.first().copied() {
-            Some("nan" | "NaN" | "error") => f64::NAN,
-            Some("inf" | "+inf") => f64::INFINITY,
-            Some(x) => x.parse::<f64>().map_err(|_| Fail(format!("{af}: line {n}: not a number: {x:?}")))?,
+        let d2 = match t.first() {
+            Some(x) => answer_number::<f64>(x).map_err(|e| Fail(format!("{af}: line {n}: {e}")))?,
             None => return Err(Fail(format!("{af}: line {n}: no answer"))),
         };
         let contacts = match t.last().and_then(|x| x.strip_prefix("contacts=")) {
@@ -569,16 +569,8 @@ fn judge_mesh_files(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Resu
             .collect();
         let n = |g: fn(&crate::meshcases::MeshJudged) -> bool| idx.iter().filter(|&&i| g(&js[i])).count();
         let max = idx.iter().map(|&i| js[i].excess).fold(0.0, f64::max);
-        let judged: Vec<(usize, usize)> = idx.iter().filter_map(|&i| js[i].contacts).collect();
-        let contacts = if judged.is_empty() {
-            "-".to_string()
-        } else {
-            format!(
-                "{} / {}",
-                judged.iter().map(|c| c.0).sum::<usize>(),
-                judged.iter().map(|c| c.1).sum::<usize>()
-            )
-        };
+        let contacts = crate::meshcases::contacts_total(idx.iter().map(|&i| &js[i]))
+            .map_or_else(|| "-".to_string(), |(missed, extra, _)| format!("{missed} / {extra}"));
         outln!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {contacts} |",
             fam.map_or("all", |f| f.as_str()),

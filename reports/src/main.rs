@@ -534,8 +534,7 @@ fn oracle_lines<T: Float>(q: Query, cases: &[Case<T>], a: &EvalArgs) -> Result<V
     let pr = tridist_scenes::eval::prec::<T>();
     let mut out = Vec::new();
     for c in cases {
-        let finite = c.a.iter().chain(c.b.iter()).flatten().all(|x| x.is_finite());
-        if !finite {
+        if !c.is_finite() {
             out.push("error: non-finite input".into());
             continue;
         }
@@ -601,9 +600,8 @@ fn kernel_lines<T: Float>(e: Engine, q: Query, cases: &[Case<T>], a: &EvalArgs) 
             l.push_str(" undecided");
         }
         if let Some(js) = &judged {
-            let finite = cases[i].a.iter().chain(cases[i].b.iter()).flatten().all(|x| x.is_finite());
             let j = &js[i];
-            if !finite {
+            if !cases[i].is_finite() {
                 l.push_str(" E=-");
             } else if q.is_verdict() {
                 l.push_str(if j.misjudged { " misjudged" } else { " ok" });

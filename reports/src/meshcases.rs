@@ -416,20 +416,6 @@ impl MeshAnswer {
     }
 }
 
-/// The `--peer` names of `mesh-eval`.
-pub(crate) const PEER_NAMES: [(&str, MeshLib); 10] = [
-    ("fcl", MeshLib::Fcl),
-    ("fcl-rss", MeshLib::FclRss),
-    ("fcl-kios", MeshLib::FclKios),
-    ("coal", MeshLib::Coal),
-    ("coal-rss", MeshLib::CoalRss),
-    ("coal-kios", MeshLib::CoalKios),
-    ("trueform-obb-f64", MeshLib::TrueFormObbF64),
-    ("trueform-aabb-f32", MeshLib::TrueFormAabbF32),
-    ("trueform-aabb-f64", MeshLib::TrueFormAabbF64),
-    ("trueform-obbrss-f64", MeshLib::TrueFormObbrssF64),
-];
-
 /// The scaled axis (axis times angle) of a rotation matrix, for parry: through the unit
 /// quaternion (Shepperd's method, stable at every angle).
 fn scaled_axis(r: &[[f64; 3]; 3]) -> [f64; 3] {
@@ -496,10 +482,7 @@ fn tridist_answers<T: tridist::Real + Peer>(
             }
         }
     }
-    let pose = |p: &Pose<f64>| Pose {
-        rotation: p.rotation.map(|r| r.map(T::from_f64)),
-        translation: p.translation.map(T::from_f64),
-    };
+    let pose = crate::meshreport::pose_in::<T>;
     cases
         .iter()
         .map(|c| {
@@ -585,10 +568,10 @@ pub(crate) fn cmd_mesh_eval(a: &MeshEvalArgs) -> Result<ExitCode, Fail> {
         None => MeshContender::Tridist(Engine::auto().isa(), a.precision),
         Some("parry3d") => MeshContender::Parry(a.precision),
         Some(p) => {
-            MeshContender::Peer(PEER_NAMES.iter().find(|(n, _)| *n == p).map(|x| x.1).ok_or_else(|| {
+            MeshContender::Peer(MeshLib::JUDGED.into_iter().find(|l| l.cli_name() == p).ok_or_else(|| {
                 Fail(format!(
                     "unknown mesh peer {p:?} (parry3d, {})",
-                    PEER_NAMES.iter().map(|x| x.0).collect::<Vec<_>>().join(", ")
+                    MeshLib::JUDGED.map(MeshLib::cli_name).join(", ")
                 ))
             })?)
         }
@@ -618,6 +601,14 @@ pub(crate) struct MeshJudged {
     /// Contacts missed (exactly within the margin less [`WRONG`] `u S`, not reported) and
     /// extra (reported, exactly beyond the margin plus [`WRONG`] `u S`); None: not judged.
     pub contacts: Option<(usize, usize)>,
+}
+
+/// The contacts judged over some answers: missed and extra in all, and the cases judged
+/// (None when no answer reported contacts).
+pub(crate) fn contacts_total<'a>(js: impl Iterator<Item = &'a MeshJudged>) -> Option<(usize, usize, usize)> {
+    let judged: Vec<(usize, usize)> = js.filter_map(|j| j.contacts).collect();
+    (!judged.is_empty())
+        .then(|| (judged.iter().map(|c| c.0).sum(), judged.iter().map(|c| c.1).sum(), judged.len()))
 }
 
 pub(crate) fn metrics_precision(p: Prec) -> Precision {
@@ -709,7 +700,7 @@ pub(crate) fn contenders() -> Vec<(MeshContender, String, String, String)> {
         v.push((
             MeshContender::Parry(p),
             "parry3d".into(),
-            "0.31".into(),
+            tridist_scenes::peer::Lib::Parry.version().into(),
             format!(
                 "{} `query::distance`, two `TriMesh`",
                 if p == Prec::F32 { "parry3d" } else { "parry3d-f64" }

@@ -126,7 +126,7 @@ struct Judgement {
 }
 
 fn judgement<T: Float>(c: &Corpus<T>, out: &Output<T>, bad: Option<(&Corpus<T>, Vec<T>)>) -> Judgement {
-    let (_, js): (_, Vec<Judged>) = summarise(Query::TriTri, &c.cases, &c.truth, out, VERDICT_ALLOW, None);
+    let (st, js): (_, Vec<Judged>) = summarise(Query::TriTri, &c.cases, &c.truth, out, VERDICT_ALLOW, None);
     let e = |j: &Judged| if j.excess.is_nan() { f64::INFINITY } else { j.excess };
     let mut fams: Vec<&str> = Vec::new();
     for f in &c.family {
@@ -144,9 +144,6 @@ fn judgement<T: Float>(c: &Corpus<T>, out: &Output<T>, bad: Option<(&Corpus<T>, 
         })
         .collect();
     let worst = (0..js.len()).max_by(|&a, &b| e(&js[a]).total_cmp(&e(&js[b]))).unwrap_or(0);
-    let mut sorted: Vec<f64> = js.iter().map(e).collect();
-    sorted.sort_by(f64::total_cmp);
-    let p99 = sorted.get(((sorted.len().max(1) - 1) as f64 * 0.99).round() as usize).copied().unwrap_or(0.0);
     let at = |flag: fn(&Judged) -> bool| -> Vec<String> {
         (0..js.len()).filter(|&i| flag(&js[i])).map(|i| c.at(i)).collect()
     };
@@ -158,7 +155,7 @@ fn judgement<T: Float>(c: &Corpus<T>, out: &Output<T>, bad: Option<(&Corpus<T>, 
         families: fams.len(),
         cases: js.len(),
         worst: (e(&js[worst]), c.at(worst)),
-        p99,
+        p99: st.p99,
         over,
         false_zeros: at(|j| j.false_zero),
         contact_misses: at(|j| j.contact_miss),
@@ -215,11 +212,6 @@ fn rows_for<T: Peer>(c: &Corpus<T>, bad: &Corpus<T>) -> Result<Vec<Row>, Fail> {
         });
     }
     Ok(rows)
-}
-
-/// Whether every coordinate of a case is finite.
-fn finite<T: Float>(c: &Case<T>) -> bool {
-    c.a.iter().chain(c.b.iter()).flatten().all(|x| x.is_finite())
 }
 
 /// A list of places, the first few.
@@ -344,11 +336,12 @@ fn triangle_section(root: &Path, dir: &Path) -> Result<String, Fail> {
     let c64 = load::<f64>(&dir.join("tri_tri.f64.cases"), shown("tri_tri.f64.cases"), true)?;
     let b32 = load::<f32>(&dir.join("bad_input.cases"), shown("bad_input.cases"), false)?;
     let b64 = load::<f64>(&dir.join("bad_input.cases"), shown("bad_input.cases"), false)?;
-    if let Some(i) = b64.cases.iter().position(finite) {
+    if let Some(i) = b64.cases.iter().position(Case::is_finite) {
         return Err(Fail(format!("{}: a finite case in the bad-input file", b64.at(i))));
     }
-    let non_finite = c32.cases.iter().position(|c| !finite(c)).map(|i| c32.at(i));
-    if let Some(at) = non_finite.or_else(|| c64.cases.iter().position(|c| !finite(c)).map(|i| c64.at(i))) {
+    let non_finite = c32.cases.iter().position(|c| !c.is_finite()).map(|i| c32.at(i));
+    if let Some(at) = non_finite.or_else(|| c64.cases.iter().position(|c| !c.is_finite()).map(|i| c64.at(i)))
+    {
         return Err(Fail(format!("{at}: a non-finite coordinate (bad input belongs in bad_input.cases)")));
     }
     let mut rows = rows_for(&c32, &b32)?;
@@ -435,17 +428,10 @@ fn mesh_section(root: &Path, dir: &Path) -> Result<String, Fail> {
             list(|j| j.wrong_pair),
         );
         let reports_pairs = answers.iter().any(|a| a.pair.is_some());
-        let judged: Vec<(usize, usize)> = js.iter().filter_map(|j| j.contacts).collect();
-        let contacts = if judged.is_empty() {
-            "no contact query".to_string()
-        } else {
-            format!(
-                "{} / {} ({} cases)",
-                judged.iter().map(|c| c.0).sum::<usize>(),
-                judged.iter().map(|c| c.1).sum::<usize>(),
-                judged.len()
-            )
-        };
+        let contacts = meshcases::contacts_total(js.iter()).map_or_else(
+            || "no contact query".to_string(),
+            |(missed, extra, n)| format!("{missed} / {extra} ({n} cases)"),
+        );
         let contact_faults = list(|j| j.contacts.is_some_and(|c| c.0 + c.1 > 0));
         let _ = writeln!(
             s,

@@ -1,6 +1,6 @@
 // tridist's shim over Coal's mesh-vs-mesh distance and collision (BVHModel<OBBRSS>, the bounding
-// volume Coal recommends for distance, or BVHModel<RSS>), for measuring Coal as a mesh peer on the same meshes and
-// poses in the same run. Built by scenes/build.rs only when Coal's headers and shared library
+// volume Coal recommends for distance, or RSS or kIOS), for measuring Coal as a mesh peer on the
+// same meshes and poses in the same run. Built by scenes/build.rs only when Coal's headers and shared library
 // are found (`bash scenes/peer/install.sh` installs the `coal` wheel in a virtual environment
 // under target/peers; or set COAL_PREFIX). Coal's library is built for double only.
 //
@@ -17,22 +17,17 @@
 #include <cstdint>
 #include <vector>
 
+#include "mesh_abi.h"
+
 namespace {
+using tridist_peer::Base;
+
 coal::Transform3s pose(const double* r, const double* t) {
   coal::Matrix3s m;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) m(i, j) = r[3 * i + j];
   return coal::Transform3s(m, coal::Vec3s(t[0], t[1], t[2]));
 }
-
-// One placed-model interface over the bounding volumes offered.
-struct Base {
-  virtual ~Base() = default;
-  virtual double distance(const double* ra, const double* ta, const Base& b, const double* rb,
-                          const double* tb) const = 0;
-  virtual int collide(const double* ra, const double* ta, const Base& b, const double* rb,
-                      const double* tb) const = 0;
-};
 
 template <typename BV>
 struct Model final : Base {
@@ -82,14 +77,4 @@ extern "C" void* tridist_coal_mesh_new(std::size_t nv, const double* v, std::siz
   }
 }
 
-extern "C" void tridist_coal_mesh_free(void* m) { delete static_cast<Base*>(m); }
-
-extern "C" double tridist_coal_mesh_distance(const void* a, const double* ra, const double* ta, const void* b,
-                                             const double* rb, const double* tb) {
-  return static_cast<const Base*>(a)->distance(ra, ta, *static_cast<const Base*>(b), rb, tb);
-}
-
-extern "C" int tridist_coal_mesh_collide(const void* a, const double* ra, const double* ta, const void* b,
-                                         const double* rb, const double* tb) {
-  return static_cast<const Base*>(a)->collide(ra, ta, *static_cast<const Base*>(b), rb, tb);
-}
+TRIDIST_MESH_ABI(tridist_coal_mesh)

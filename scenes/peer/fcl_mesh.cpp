@@ -1,6 +1,6 @@
 // tridist's shim over FCL's mesh-vs-mesh distance and collision (BVHModel<OBBRSS<double>>, the
-// bounding volume FCL recommends for distance, or BVHModel<RSS<double>>), for measuring FCL as the mesh peer on the same
-// meshes and poses in the same run. Built by scenes/build.rs only when FCL's headers and its
+// bounding volume FCL recommends for distance, or RSS or kIOS), for measuring FCL as the mesh
+// peer on the same meshes and poses in the same run. Built by scenes/build.rs only when FCL's headers and its
 // shared library are installed (Debian: libfcl-dev, libeigen3-dev); links libfcl. FCL's library
 // instantiates double only, so this peer is double only.
 #include <cstddef>
@@ -13,7 +13,11 @@
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
+#include "mesh_abi.h"
+
 namespace {
+using tridist_peer::Base;
+
 // A pose as tridist writes it: rotation rows r[0..9], translation t[0..3].
 fcl::Transform3d pose(const double* r, const double* t) {
   fcl::Transform3d p = fcl::Transform3d::Identity();
@@ -23,15 +27,6 @@ fcl::Transform3d pose(const double* r, const double* t) {
   }
   return p;
 }
-
-// One placed-model interface over the bounding volumes offered.
-struct Base {
-  virtual ~Base() = default;
-  virtual double distance(const double* ra, const double* ta, const Base& b, const double* rb,
-                          const double* tb) const = 0;
-  virtual int collide(const double* ra, const double* ta, const Base& b, const double* rb,
-                      const double* tb) const = 0;
-};
 
 template <typename BV>
 struct Model final : Base {
@@ -84,14 +79,4 @@ extern "C" void* tridist_fcl_mesh_new(std::size_t nv, const double* v, std::size
   }
 }
 
-extern "C" void tridist_fcl_mesh_free(void* m) { delete static_cast<Base*>(m); }
-
-extern "C" double tridist_fcl_mesh_distance(const void* a, const double* ra, const double* ta, const void* b,
-                                            const double* rb, const double* tb) {
-  return static_cast<const Base*>(a)->distance(ra, ta, *static_cast<const Base*>(b), rb, tb);
-}
-
-extern "C" int tridist_fcl_mesh_collide(const void* a, const double* ra, const double* ta, const void* b,
-                                        const double* rb, const double* tb) {
-  return static_cast<const Base*>(a)->collide(ra, ta, *static_cast<const Base*>(b), rb, tb);
-}
+TRIDIST_MESH_ABI(tridist_fcl_mesh)

@@ -15,15 +15,10 @@
 #include <memory>
 #include <vector>
 
+#include "mesh_abi.h"
+
 namespace {
-// One placed-model interface over the tree kinds and precisions offered.
-struct Base {
-  virtual ~Base() = default;
-  virtual double distance(const double* ra, const double* ta, const Base& b, const double* rb,
-                          const double* tb) const = 0;
-  virtual int collide(const double* ra, const double* ta, const Base& b, const double* rb,
-                      const double* tb) const = 0;
-};
+using tridist_peer::Base;
 
 bool identity(const double* r, const double* t) {
   for (int i = 0; i < 3; ++i) {
@@ -89,7 +84,8 @@ tbb::global_control* threads = nullptr;
 // The model of nv vertices and nt triangles, its tree built with 4 children per node and 4
 // triangles per leaf (`tf::config_tree(4, 4)`, as TrueForm's own benchmarks build it). config:
 // 0 axis-aligned boxes in float (TrueForm's benchmarks), 1 axis-aligned boxes in double,
-// 2 OBBRSS in double, 3 oriented boxes in double. Two models are queried together only when their configs are equal.
+// 2 OBBRSS in double, 3 oriented boxes in double. Two models are queried together only when
+// their configs are equal.
 extern "C" void* tridist_trueform_mesh_new(std::size_t nv, const double* v, std::size_t nt, const std::uint32_t* t,
                                            std::uint32_t config) {
   switch (config) {
@@ -101,17 +97,7 @@ extern "C" void* tridist_trueform_mesh_new(std::size_t nv, const double* v, std:
   }
 }
 
-extern "C" void tridist_trueform_mesh_free(void* m) { delete static_cast<Base*>(m); }
-
-extern "C" double tridist_trueform_mesh_distance(const void* a, const double* ra, const double* ta, const void* b,
-                                                 const double* rb, const double* tb) {
-  return static_cast<const Base*>(a)->distance(ra, ta, *static_cast<const Base*>(b), rb, tb);
-}
-
-extern "C" int tridist_trueform_mesh_collide(const void* a, const double* ra, const double* ta, const void* b,
-                                             const double* rb, const double* tb) {
-  return static_cast<const Base*>(a)->collide(ra, ta, *static_cast<const Base*>(b), rb, tb);
-}
+TRIDIST_MESH_ABI(tridist_trueform_mesh)
 
 // TBB's parallelism for the queries that follow: n threads at most, or TBB's default for 0.
 extern "C" void tridist_trueform_threads(std::uint32_t n) {

@@ -115,6 +115,13 @@ pub struct Case<T> {
     pub b: Triangle<T>,
 }
 
+impl<T: Float> Case<T> {
+    /// Whether every coordinate is finite (the oracle judges finite input only).
+    pub fn is_finite(&self) -> bool {
+        self.a.iter().chain(self.b.iter()).flatten().all(|x| x.is_finite())
+    }
+}
+
 type P = [f64; 3];
 type Tri = [P; 3];
 

@@ -43,12 +43,6 @@ pub struct MeshExact {
 /// Candidate pairs beyond which [`mesh_exact`] gives up (an error, not a wrong answer).
 pub const MAX_CANDIDATES: usize = 4_000_000;
 
-/// `R v + t` in f64, as ((r0 v0 + r1 v1) + r2 v2) + t, row by row.
-fn place_f64(p: &Pose<f64>, v: [f64; 3]) -> [f64; 3] {
-    let r = &p.rotation;
-    [0, 1, 2].map(|i| r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2] + p.translation[i])
-}
-
 /// `R v + t` exactly.
 fn place_exact(p: &Pose<f64>, v: [f64; 3]) -> Result<P3, String> {
     let x = |f: f64| Rational::from_f64(f).ok_or_else(|| "a non-finite coordinate".to_string());
@@ -61,6 +55,37 @@ fn place_exact(p: &Pose<f64>, v: [f64; 3]) -> Result<P3, String> {
         *o = s;
     }
     Ok(out)
+}
+
+/// Triangle `i` of `mesh` placed by `pose` exactly.
+fn tri_exact(mesh: &Mesh, pose: &Pose<f64>, i: usize) -> Result<[P3; 3], String> {
+    let t = mesh.triangles[i];
+    Ok([
+        place_exact(pose, mesh.vertices[t[0] as usize])?,
+        place_exact(pose, mesh.vertices[t[1] as usize])?,
+        place_exact(pose, mesh.vertices[t[2] as usize])?,
+    ])
+}
+
+/// The vertices of `mesh` placed by `pose` in f64 (`Pose::apply`: three products and three
+/// sums per coordinate), and a bound of the error of each coordinate (twice gamma_4 of the
+/// sum of the magnitudes, whatever the order of the sums).
+fn placed_f64(mesh: &Mesh, pose: &Pose<f64>) -> Result<(Vec<[f64; 3]>, f64), String> {
+    let finite = pose.rotation.iter().flatten().chain(&pose.translation).all(|x| x.is_finite());
+    if !finite || !mesh.vertices.iter().flatten().all(|x| x.is_finite()) {
+        return Err("a non-finite coordinate or pose".into());
+    }
+    let v: Vec<[f64; 3]> = mesh.vertices.iter().map(|&p| pose.apply(p)).collect();
+    let big = mesh.vertices.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    let rows = pose.rotation.iter().map(|r| r.iter().map(|x| x.abs()).sum::<f64>()).fold(0.0f64, f64::max);
+    let t = pose.translation.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let delta = 8.02 * f64::EPSILON / 2.0 * (rows * big + t) * (1.0 + 1e-9) + f64::MIN_POSITIVE;
+    Ok((v, delta))
+}
+
+/// The largest absolute coordinate of placed vertices, rounded up by the placement's bound.
+fn magnitude(v: &[[f64; 3]], delta: f64) -> f64 {
+    v.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs())) + delta
 }
 
 /// A mesh placed in f64 with its triangles' boxes, and its placement's error bound.
@@ -76,18 +101,7 @@ struct Placed<'a> {
 
 impl<'a> Placed<'a> {
     fn new(mesh: &'a Mesh, pose: &'a Pose<f64>) -> Result<Placed<'a>, String> {
-        let finite = pose.rotation.iter().flatten().chain(&pose.translation).all(|x| x.is_finite());
-        if !finite || !mesh.vertices.iter().flatten().all(|x| x.is_finite()) {
-            return Err("a non-finite coordinate or pose".into());
-        }
-        let v: Vec<[f64; 3]> = mesh.vertices.iter().map(|&p| place_f64(pose, p)).collect();
-        let big = mesh.vertices.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
-        let rows =
-            pose.rotation.iter().map(|r| r.iter().map(|x| x.abs()).sum::<f64>()).fold(0.0f64, f64::max);
-        let t = pose.translation.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        // three products and three sums: at most gamma_4 (< 4.01 u) of the sum of magnitudes;
-        // doubled
-        let delta = 8.02 * f64::EPSILON / 2.0 * (rows * big + t) * (1.0 + 1e-9) + f64::MIN_POSITIVE;
+        let (v, delta) = placed_f64(mesh, pose)?;
         let boxes = mesh
             .triangles
             .iter()
@@ -107,16 +121,39 @@ impl<'a> Placed<'a> {
     }
 
     fn tri_exact(&self, i: usize) -> Result<[P3; 3], String> {
-        let t = self.mesh.triangles[i];
-        Ok([
-            place_exact(self.pose, self.mesh.vertices[t[0] as usize])?,
-            place_exact(self.pose, self.mesh.vertices[t[1] as usize])?,
-            place_exact(self.pose, self.mesh.vertices[t[2] as usize])?,
-        ])
+        tri_exact(self.mesh, self.pose, i)
+    }
+}
+
+/// Two placed meshes: their `S` and the margin `m` by which a triangle distance on the f64
+/// placement may differ from the exact one (each vertex moves by at most `√3 δ`, a triangle
+/// distance by at most `√3 (δa + δb) < m`).
+struct Scene<'a> {
+    a: Placed<'a>,
+    b: Placed<'a>,
+    s: f64,
+    m: f64,
+}
+
+impl<'a> Scene<'a> {
+    fn new(a: &'a Mesh, pa: &'a Pose<f64>, b: &'a Mesh, pb: &'a Pose<f64>) -> Result<Scene<'a>, String> {
+        if a.triangles.is_empty() || b.triangles.is_empty() {
+            return Err("an empty mesh".into());
+        }
+        let (a, b) = (Placed::new(a, pa)?, Placed::new(b, pb)?);
+        let s = magnitude(&a.v, a.delta).max(magnitude(&b.v, b.delta));
+        let m = 4.0 * (a.delta + b.delta);
+        Ok(Scene { a, b, s, m })
     }
 
-    fn magnitude(&self) -> f64 {
-        self.v.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs())) + self.delta
+    /// The exact squared distance of a pair on the exact placement.
+    fn exact(&self, i: usize, j: usize) -> Result<Rational, String> {
+        Ok(tridist_oracle::triangle_triangle(&self.a.tri_exact(i)?, &self.b.tri_exact(j)?).d2)
+    }
+
+    /// The distance of a pair on the f64 placement (its exact value, rounded).
+    fn on_f64(&self, i: usize, j: usize) -> Result<f64, String> {
+        Ok(tridist_oracle::triangle_triangle(&self.a.tri_f64(i)?, &self.b.tri_f64(j)?).d2.to_f64().sqrt())
     }
 }
 
@@ -126,7 +163,9 @@ impl<'a> Placed<'a> {
 /// # Errors
 /// A non-finite coordinate or pose.
 pub fn scene_magnitude(a: &Mesh, pa: &Pose<f64>, b: &Mesh, pb: &Pose<f64>) -> Result<f64, String> {
-    Ok(Placed::new(a, pa)?.magnitude().max(Placed::new(b, pb)?.magnitude()))
+    let (va, da) = placed_f64(a, pa)?;
+    let (vb, db) = placed_f64(b, pb)?;
+    Ok(magnitude(&va, da).max(magnitude(&vb, db)))
 }
 
 /// The exact squared distance of triangle `i` of `a` in pose `pa` and triangle `j` of `b` in
@@ -145,8 +184,7 @@ pub fn pair_d2(
     if i >= a.triangles.len() || j >= b.triangles.len() {
         return Err(format!("no triangle pair ({i}, {j})"));
     }
-    let (xa, xb) = (Placed::new(a, pa)?, Placed::new(b, pb)?);
-    Ok(tridist_oracle::triangle_triangle(&xa.tri_exact(i)?, &xb.tri_exact(j)?).d2)
+    Ok(tridist_oracle::triangle_triangle(&tri_exact(a, pa, i)?, &tri_exact(b, pb, j)?).d2)
 }
 
 /// The triangle pairs whose padded boxes are within `upper` of each other: the triangles of
@@ -208,27 +246,23 @@ pub fn contacts_exact(
     pb: &Pose<f64>,
     margin: f64,
 ) -> Result<Vec<(usize, usize)>, String> {
-    if a.triangles.is_empty() || b.triangles.is_empty() {
-        return Err("an empty mesh".into());
-    }
     if !(margin.is_finite() && margin >= 0.0) {
         return Err(format!("margin {margin} is not a finite non-negative number"));
     }
-    let (xa, xb) = (Placed::new(a, pa)?, Placed::new(b, pb)?);
-    let s = xa.magnitude().max(xb.magnitude());
-    let m = 4.0 * (xa.delta + xb.delta);
-    let upper = margin * (1.0 + 1e-9) + m + 4.0 * f64::EPSILON * s;
+    let sc = Scene::new(a, pa, b, pb)?;
+    let m = sc.m;
+    let upper = margin * (1.0 + 1e-9) + m + 4.0 * f64::EPSILON * sc.s;
     let mu = Rational::from_f64(margin).ok_or("a non-finite margin")?;
     let mu2 = mu.clone() * mu;
     let mut out = Vec::new();
-    for (i, j) in candidates(&xa, &xb, upper)? {
-        let df = tridist_oracle::triangle_triangle(&xa.tri_f64(i)?, &xb.tri_f64(j)?).d2.to_f64().sqrt();
+    for (i, j) in candidates(&sc.a, &sc.b, upper)? {
+        let df = sc.on_f64(i, j)?;
         let inside = if df * (1.0 + 1e-9) + m < margin * (1.0 - 1e-9) {
             true
         } else if df * (1.0 - 1e-9) - m > margin * (1.0 + 1e-9) {
             false
         } else {
-            tridist_oracle::triangle_triangle(&xa.tri_exact(i)?, &xb.tri_exact(j)?).d2 <= mu2
+            sc.exact(i, j)? <= mu2
         };
         if inside {
             out.push((i, j));
@@ -250,27 +284,20 @@ fn box_gap(a: &([f64; 3], [f64; 3]), b: &([f64; 3], [f64; 3])) -> f64 {
 /// An empty mesh, a non-finite coordinate or pose, or more than [`MAX_CANDIDATES`] candidate
 /// pairs.
 pub fn mesh_exact(a: &Mesh, pa: &Pose<f64>, b: &Mesh, pb: &Pose<f64>) -> Result<MeshExact, String> {
-    if a.triangles.is_empty() || b.triangles.is_empty() {
-        return Err("an empty mesh".into());
-    }
-    let (xa, xb) = (Placed::new(a, pa)?, Placed::new(b, pb)?);
+    let sc = Scene::new(a, pa, b, pb)?;
     // 1. an upper bound: tridist's pair, answered exactly (the portable variant: any would do)
     let e = Engine::new(Isa::Scalar).map_err(|e| e.to_string())?;
     let ma = tridist::Mesh::new(a.vertices.clone(), a.triangles.clone()).map_err(|e| e.to_string())?;
     let mb = tridist::Mesh::new(b.vertices.clone(), b.triangles.clone()).map_err(|e| e.to_string())?;
     let hit =
         e.mesh_distance(&ma, pa, &mb, pb).map_err(|e| e.to_string())?.ok_or("no answer from tridist")?;
-    from_pair(&xa, &xb, (hit.tri_a, hit.tri_b))
+    from_pair(&sc, (hit.tri_a, hit.tri_b))
 }
 
 /// [`mesh_exact`] from any starting pair (its exact distance the first upper bound).
-fn from_pair(xa: &Placed<'_>, xb: &Placed<'_>, start: (usize, usize)) -> Result<MeshExact, String> {
-    let exact_of = |i: usize, j: usize| -> Result<Rational, String> {
-        Ok(tridist_oracle::triangle_triangle(&xa.tri_exact(i)?, &xb.tri_exact(j)?).d2)
-    };
-    let mut best = (exact_of(start.0, start.1)?, start.0, start.1);
-    let s = xa.magnitude().max(xb.magnitude());
-    let m = 4.0 * (xa.delta + xb.delta);
+fn from_pair(sc: &Scene<'_>, start: (usize, usize)) -> Result<MeshExact, String> {
+    let mut best = (sc.exact(start.0, start.1)?, start.0, start.1);
+    let (s, m) = (sc.s, sc.m);
     if best.0 == 0 {
         // nothing is below 0; the first pair in index order at 0 is not searched for
         return Ok(MeshExact { d2: best.0, tri_a: best.1, tri_b: best.2, s, candidates: (0, 1) });
@@ -278,11 +305,10 @@ fn from_pair(xa: &Placed<'_>, xb: &Placed<'_>, start: (usize, usize)) -> Result<
     let upper = best.0.to_f64().sqrt() * (1.0 + 1e-9) + m + 4.0 * f64::EPSILON * s;
     // 2. candidates
     let mut cand: Vec<(f64, usize, usize)> =
-        candidates(xa, xb, upper)?.into_iter().map(|(i, j)| (0.0, i, j)).collect();
+        candidates(&sc.a, &sc.b, upper)?.into_iter().map(|(i, j)| (0.0, i, j)).collect();
     // 3. each candidate exactly on the f64 placement, then in ascending order on the exact one
     for c in &mut cand {
-        let d2 = tridist_oracle::triangle_triangle(&xa.tri_f64(c.1)?, &xb.tri_f64(c.2)?).d2;
-        c.0 = d2.to_f64().sqrt();
+        c.0 = sc.on_f64(c.1, c.2)?;
     }
     cand.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
     let mut answered = 0;
@@ -292,7 +318,7 @@ fn from_pair(xa: &Placed<'_>, xb: &Placed<'_>, start: (usize, usize)) -> Result<
             break;
         }
         answered += 1;
-        let d2 = exact_of(i, j)?;
+        let d2 = sc.exact(i, j)?;
         if d2 < best.0 || (d2 == best.0 && (i, j) < (best.1, best.2)) {
             best = (d2, i, j);
         }
@@ -359,8 +385,8 @@ mod tests {
         let tm = tridist::Mesh::new(m.vertices.clone(), m.triangles.clone()).unwrap();
         let mut positive = 0;
         for (k, p) in crate::protocol::ball_placements(5, 0.5, 11).iter().enumerate() {
-            let (xa, xb) = (Placed::new(&m, &id).unwrap(), Placed::new(&m, p).unwrap());
-            let got = from_pair(&xa, &xb, (0, 0)).unwrap();
+            let sc = Scene::new(&m, &id, &m, p).unwrap();
+            let got = from_pair(&sc, (0, 0)).unwrap();
             let from_tridist = mesh_exact(&m, &id, &m, p).unwrap();
             assert_eq!(
                 (&got.d2, got.tri_a, got.tri_b),
@@ -369,14 +395,11 @@ mod tests {
             let mut brute = f64::INFINITY;
             for i in 0..m.triangles.len() {
                 for j in 0..m.triangles.len() {
-                    let d2 =
-                        tridist_oracle::triangle_triangle(&xa.tri_f64(i).unwrap(), &xb.tri_f64(j).unwrap())
-                            .d2;
-                    brute = brute.min(d2.to_f64().sqrt());
+                    brute = brute.min(sc.on_f64(i, j).unwrap());
                 }
             }
             let d = got.d2.to_f64().sqrt();
-            let m = 4.0 * (xa.delta + xb.delta);
+            let m = sc.m;
             assert!((d - brute).abs() <= m + 1e-15 * d, "placement {k}: {d} against brute force {brute}");
             let hit = e.mesh_distance(&tm, &id, &tm, p).unwrap().unwrap();
             assert!(hit.sqdist.sqrt() >= d * (1.0 - 1e-12) - m, "placement {k}");

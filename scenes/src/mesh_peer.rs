@@ -78,6 +78,22 @@ impl MeshLib {
         }
     }
 
+    /// The name `tridist mesh-eval --peer` takes.
+    pub fn cli_name(self) -> &'static str {
+        match self {
+            MeshLib::Fcl => "fcl",
+            MeshLib::FclRss => "fcl-rss",
+            MeshLib::FclKios => "fcl-kios",
+            MeshLib::Coal => "coal",
+            MeshLib::CoalRss => "coal-rss",
+            MeshLib::CoalKios => "coal-kios",
+            MeshLib::TrueFormAabbF32 => "trueform-aabb-f32",
+            MeshLib::TrueFormAabbF64 => "trueform-aabb-f64",
+            MeshLib::TrueFormObbrssF64 => "trueform-obbrss-f64",
+            MeshLib::TrueFormObbF64 => "trueform-obb-f64",
+        }
+    }
+
     /// Whether this peer's shim was built (its library found at build time) and loads.
     pub fn available(self) -> bool {
         abi(self).is_some()

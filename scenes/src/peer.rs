@@ -133,7 +133,7 @@ impl Lib {
     }
     /// Whether the library computes in `T` (Coal is built for double only).
     pub fn offers<T: Float>(self) -> bool {
-        self != Lib::Coal || T::NAME == "f64"
+        self != Lib::Coal || T::PRECISION == tridist::Precision::F64
     }
     /// The version built in ("unknown" when not built or not found).
     pub fn version(self) -> &'static str {
@@ -148,7 +148,7 @@ impl Lib {
     }
     /// The public API judged, in `T`'s words (float or double for the C++ peers).
     pub fn configuration<T: Float>(self) -> &'static str {
-        let single = T::NAME == "f32";
+        let single = T::PRECISION == tridist::Precision::F32;
         match (self, single) {
             (Lib::Parry, true) => "parry3d `query::distance`, two `Triangle` shapes (GJK)",
             (Lib::Parry, false) => "parry3d-f64 `query::distance`, two `Triangle` shapes (GJK)",
@@ -171,7 +171,7 @@ impl Lib {
     fn mesh_lib<T: Float>(self) -> Option<MeshLib> {
         match self {
             Lib::Coal => Some(MeshLib::Coal),
-            Lib::TrueForm if T::NAME == "f32" => Some(MeshLib::TrueFormAabbF32),
+            Lib::TrueForm if T::PRECISION == tridist::Precision::F32 => Some(MeshLib::TrueFormAabbF32),
             Lib::TrueForm => Some(MeshLib::TrueFormAabbF64),
             Lib::Parry | Lib::Fcl => None,
         }
