@@ -28,7 +28,8 @@ impl Engine {
     /// scalar kernels (no batch set-up): `a` and `b` hold the points of each primitive.
     ///
     /// # Errors
-    /// [`Error::Arity`] when the slices do not hold the query's points ([`Query::arity`]).
+    /// [`Error::Arity`] when the slices do not hold the query's points ([`Query::arity`]);
+    /// the engine's setting errors ([`Engine::check`]).
     ///
     /// # Example
     /// ```
@@ -47,7 +48,7 @@ impl Engine {
             let f = |k: usize| s[if k < s.len() { k } else { 0 }].to_point();
             [f(0), f(1), f(2)]
         };
-        let l = crate::drv::single(query, &pad(a), &pad(b), &self.params::<T>(), self.uses_exact());
+        let l = crate::drv::single(query, &pad(a), &pad(b), &self.params::<T>()?, self.uses_exact());
         Ok(Answer {
             closest: ClosestPoints { sqdist: l.d, p: l.p, q: l.q },
             interval: Interval { lo: l.lo, hi: l.hi },
@@ -168,7 +169,7 @@ pub fn within_margin_triangle_triangle<T: Real, P: AsPoint<T>>(
     b: &[P; 3],
     margin: T,
 ) -> Result<Proximity<T>, Error> {
-    let r = Engine::scalar().margin(margin.to_f64())?.single(Query::Within, a, b)?;
+    let r = Engine::scalar().margin(margin.to_f64()).single(Query::Within, a, b)?;
     let d = r.closest.sqdist;
     Ok(if d.is_nan() {
         Proximity::Invalid
@@ -225,6 +226,6 @@ pub fn penalty_triangle_triangle<T: Real, P: AsPoint<T>>(
     b: &[P; 3],
     options: &PenaltyOptions<T>,
 ) -> Result<(ClosestPoints<T>, u32), Error> {
-    let r = Engine::scalar().penalty(options)?.single(Query::Penalty, a, b)?;
+    let r = Engine::scalar().penalty(options).single(Query::Penalty, a, b)?;
     Ok((r.closest, r.iterations))
 }

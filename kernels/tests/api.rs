@@ -257,8 +257,8 @@ fn misuse_is_an_error_not_a_panic() {
         assert!(v.iter().all(|&x| x == Intersection::Intersecting) && it == [0; 5]);
         assert_eq!(e.within_margin_triangle_triangle(&a, &a, -1.0, &mut out), Err(Error::InvalidMargin));
         assert_eq!(e.within_margin_triangle_triangle(&a, &a, f32::NAN, &mut out), Err(Error::InvalidMargin));
-        assert_eq!(e.tolerance(Tolerance::scaled(-1.0)).err(), Some(Error::InvalidTolerance));
-        assert_eq!(e.tolerance(Tolerance::relative(f64::NAN)).err(), Some(Error::InvalidTolerance));
+        assert_eq!(e.tolerance(Tolerance::scaled(-1.0)).check(), Err(Error::InvalidTolerance));
+        assert_eq!(e.tolerance(Tolerance::relative(f64::NAN)).check(), Err(Error::InvalidTolerance));
         // empty batches are fine
         let empty = TriangleBatch::<f32>::from_slice(&[]);
         assert_eq!(e.sqdist_triangle_triangle(&empty, &empty, &mut []).map(|c| c.pairs), Ok(0));
@@ -275,6 +275,66 @@ fn misuse_is_an_error_not_a_panic() {
     );
     assert!(TriangleBatch::from_mesh(&[[0.0f32; 3]; 2], &[[0, 1, 2]]).is_err());
     assert_eq!(Isa::parse("avx1024"), None);
+}
+
+/// The builder convention: setters never fail, and every query on an engine with an invalid
+/// setting returns that setting's error before it touches its outputs (batch, single and mesh
+/// queries alike), as `Engine::check` does up front.
+#[test]
+fn an_invalid_setting_is_the_error_of_every_query() {
+    let tet = tridist::Mesh::new(
+        vec![[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        vec![[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]],
+    )
+    .unwrap();
+    let (here, there) = (tridist::Pose::identity(), tridist::Pose::translation([3.0f32, 0.0, 0.0]));
+    let a = ps_f32();
+    for e in engines() {
+        let big_rho = PenaltyOptions::<f64> { rho: 1e300, ..Default::default() };
+        let bad = [
+            (e.tolerance(Tolerance::scaled(-1.0)), Error::InvalidTolerance),
+            (e.tolerance(Tolerance::absolute(f64::NAN)), Error::InvalidTolerance),
+            (e.margin(-1.0), Error::InvalidMargin),
+            (e.margin(f64::INFINITY), Error::InvalidMargin),
+            (e.penalty(&PenaltyOptions::<f32> { max_iter: 0, ..Default::default() }), Error::InvalidOptions),
+            (
+                e.penalty(&PenaltyOptions::<f64> { reg: f64::NAN, ..Default::default() }),
+                Error::InvalidOptions,
+            ),
+        ];
+        for (b, err) in bad {
+            assert_eq!(b.check(), Err(err.clone()), "{:?}", e.isa());
+            let mut out = vec![7.0f32; a.len()];
+            assert_eq!(b.sqdist_triangle_triangle(&a, &a, &mut out).err(), Some(err.clone()));
+            assert!(out.iter().all(|&x| x == 7.0), "an invalid setting wrote outputs");
+            let mut v = vec![Intersection::Invalid; a.len()];
+            assert_eq!(b.intersect_triangle_triangle(&a, &a, &mut v).err(), Some(err.clone()));
+            assert_eq!(b.single::<f32, _>(Query::TriTri, &a[0], &a[0]).err(), Some(err.clone()));
+            assert_eq!(b.mesh_distance(&tet, &here, &tet, &there).err(), Some(err.clone()));
+            assert_eq!(b.mesh_intersect(&tet, &here, &tet, &there).err(), Some(err.clone()));
+            assert_eq!(b.mesh_closest_point(&tet, &here, [2.0, 0.0, 0.0]).err(), Some(err.clone()));
+            // the settings the mesh clearance queries take as arguments replace the engine's
+            let own = if err == Error::InvalidMargin { None } else { Some(err.clone()) };
+            assert_eq!(b.mesh_within_margin(&tet, &here, &tet, &there, 0.5).err(), own);
+            assert_eq!(b.mesh_contacts(&tet, &here, &tet, &there, 0.5, None).err(), own);
+            // a valid setting repairs the engine
+            let fixed = match err {
+                Error::InvalidTolerance => b.tolerance(Tolerance::DEFAULT),
+                Error::InvalidMargin => b.margin(0.0),
+                _ => b.penalty(&PenaltyOptions::<f64>::default()),
+            };
+            assert_eq!(fixed.check(), Ok(()));
+            assert!(fixed.sqdist_triangle_triangle(&a, &a, &mut out).is_ok());
+        }
+        // options valid in f64 but not in f32 (rho beyond f32's range): f32 queries refuse them
+        let b = e.penalty(&big_rho);
+        assert_eq!(b.check(), Ok(()));
+        let mut out = vec![0.0f32; a.len()];
+        assert_eq!(b.sqdist_triangle_triangle(&a, &a, &mut out).err(), Some(Error::InvalidOptions));
+        let a64: Vec<Triangle<f64>> = a.iter().map(|t| t.map(|p| p.map(f64::from))).collect();
+        let mut out64 = vec![0.0f64; a.len()];
+        assert!(b.sqdist_triangle_triangle(&a64, &a64, &mut out64).is_ok());
+    }
 }
 
 #[test]
@@ -517,7 +577,7 @@ fn within_margin_zero_agrees_for_touching_pairs_far_from_origin() {
 fn the_exact_step_decides_margin_zero_far_from_the_origin() {
     let (a, b) = TOUCHING_FAR;
     for e in engines() {
-        let e = e.tolerance(Tolerance::EXACT).unwrap();
+        let e = e.tolerance(Tolerance::EXACT);
         let (mut w0, mut w1) = ([0.0f64], [0.0f64]);
         e.within_margin_triangle_triangle(Prims::One(a), Prims::One(b), 0.0, &mut w0).unwrap();
         e.within_margin_triangle_triangle(Prims::One(a), Prims::One(b), 7.4e-4, &mut w1).unwrap();
@@ -632,7 +692,6 @@ fn tolerances_trade_work_for_width() {
             let (mut d, mut iv) = (vec![0.0f32; n], vec![Interval::default(); n]);
             let c = e
                 .tolerance(tol)
-                .unwrap()
                 .run(Query::TriTri, &a, &b, Outputs::new().sqdist(&mut d).intervals(&mut iv))
                 .unwrap();
             let w = iv.iter().map(|i| i.width()).fold(0.0f32, f32::max);
@@ -802,7 +861,7 @@ fn the_exact_step_answers_what_no_float_stage_can() {
         let truth: Vec<Rational> =
             ps.iter().map(|(a, b)| tridist_oracle::sqdist_triangle_triangle(a, b).unwrap()).collect();
         for e in engines() {
-            let e = e.tolerance(Tolerance::EXACT).unwrap();
+            let e = e.tolerance(Tolerance::EXACT);
             let (mut d, mut iv) = (vec![T::ZERO; n], vec![Interval::<T>::default(); n]);
             let c = e
                 .exact(true)

@@ -12,7 +12,7 @@ fn engines() -> Vec<Engine> {
     Isa::ALL
         .into_iter()
         .filter_map(|i| Engine::new(i).ok())
-        .map(|e| e.tolerance(Tolerance::CORRECTLY_ROUNDED).expect("a valid tolerance"))
+        .map(|e| e.tolerance(Tolerance::CORRECTLY_ROUNDED))
         .collect()
 }
 
@@ -151,7 +151,7 @@ fn every_square_is_correctly_rounded_or_reported_undecided() {
 /// What the mode refuses, and what it leaves as it was.
 #[test]
 fn the_penalty_method_and_the_closest_point_of_a_mesh_refuse_the_mode() {
-    let e = Engine::auto().tolerance(Tolerance::CORRECTLY_ROUNDED).expect("a valid tolerance");
+    let e = Engine::auto().tolerance(Tolerance::CORRECTLY_ROUNDED);
     let t: Triangle<f64> = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
     let u: Triangle<f64> = t.map(|p| [p[0], p[1], 2.0]);
     let mut cp = [tridist::ClosestPoints::default()];

@@ -411,10 +411,10 @@ fn engine<T: Float>(k: &KernelArgs, q: Query) -> Result<Engine, Fail> {
     if !k.variant.available() {
         return Err(Fail(format!("variant {} is not available on this CPU", k.variant.name())));
     }
-    let mut e = Engine::new(k.variant.isa())?.threads(k.threads).tolerance(k.tolerance)?;
+    let mut e = Engine::new(k.variant.isa())?.threads(k.threads).tolerance(k.tolerance);
     if q == Query::Within {
         let m = k.margin.ok_or_else(|| Fail("the within query needs --margin".into()))?;
-        e = e.margin(m)?;
+        e = e.margin(m);
     }
     if q == Query::Penalty {
         let mut o = PenaltyOptions::<T>::default();
@@ -424,8 +424,10 @@ fn engine<T: Float>(k: &KernelArgs, q: Query) -> Result<Engine, Fail> {
         if let Some(x) = k.penalty_tol {
             o.tol = T::from_f64(x);
         }
-        e = e.penalty(&o)?;
+        e = e.penalty(&o);
     }
+    // the setters never fail: say what is wrong before any input is read
+    e.check()?;
     Ok(e)
 }
 

@@ -239,7 +239,7 @@ fn throughput_one<T: Peer>(s: &Settings, wl: &Named, m: &mut Measured, prog: &mu
         if name == "default" {
             continue;
         }
-        let Ok(et) = e.tolerance(tol) else { continue };
+        let et = e.tolerance(tol);
         if let Some(Ok(r)) = measure(&w, Query::TriTri, v, Some(et), s.budget) {
             m.thr.push(row(Query::TriTri, v.name(), 1, name, r));
         }
@@ -348,7 +348,7 @@ fn penalty_sweep<T: Float>(v: Variant, n: usize) -> Vec<PenaltyRow> {
             max_iter: it,
             ..tridist::PenaltyOptions::default()
         };
-        let Ok(e) = v.engine().and_then(|e| e.penalty(&opts)) else { continue };
+        let Ok(e) = v.engine().map(|e| e.penalty(&opts)) else { continue };
         let t0 = std::time::Instant::now();
         let Ok(o) = run_with(e, Query::Penalty, v, &cases, None) else { continue };
         let secs = t0.elapsed().as_secs_f64().max(1e-9);

@@ -263,7 +263,7 @@ pub fn run_with<T: Float>(
         let mut o = Output::zeroed(cases.len());
         for (i, c) in cases.iter().enumerate() {
             let m = margins.map_or_else(|| default_margin(c), |m| m[i]);
-            let one = run_pairs(e.margin(m.to_f64())?, query, variant, std::slice::from_ref(c))?;
+            let one = run_pairs(e.margin(m.to_f64()), query, variant, std::slice::from_ref(c))?;
             o.d[i] = one.d[0];
             o.p[i] = one.p[0];
             o.q[i] = one.q[0];

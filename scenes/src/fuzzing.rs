@@ -372,7 +372,7 @@ fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance, judge: Judge) -> Verdict {
         let d2 = exact_d2(&a, &b);
         let s = crate::eval::truth(q, cases)[0].s;
         for (v, e) in judged_variants::<T>(q, judge) {
-            let e = e.tolerance(tol).map_err(|e| e.to_string())?;
+            let e = e.tolerance(tol);
             let o = crate::eval::run_with(e, q, v, cases, None).map_err(|e| e.to_string())?;
             let iv: Interval<T> = o.iv[0];
             let where_ = || format!("{} {} {} tol {tol:?}: {}", q.name(), v.name(), T::NAME, case_line(c));

@@ -545,7 +545,7 @@ pub fn check_scene<T: Real>(s: &MeshScene, idx: u64, lim: &Limits, worst: &mut W
         .chain(test_shapes().into_iter().skip(1).map(|shape| (best, shape)));
     for (isa, shape) in runs {
         let e = Engine::new(isa)
-            .and_then(|e| e.tolerance(tridist::Tolerance::scaled(lim.tolerance)))
+            .map(|e| e.tolerance(tridist::Tolerance::scaled(lim.tolerance)))
             .map_err(|e| format!("{isa}: {e}"))?;
         let (ma, mb) = if shape == TreeShape::default() {
             (ma.clone(), mb.clone())

@@ -84,7 +84,7 @@ impl<T: Float> Workload<T> {
         out: &mut [T],
         verdicts: &mut [Intersection],
     ) -> Result<PathCounts, tridist::Error> {
-        let e = if q == Query::Within { e.margin(self.margin)? } else { e };
+        let e = if q == Query::Within { e.margin(self.margin) } else { e };
         let o = if q.is_verdict() { Outputs::new().verdicts(verdicts) } else { Outputs::new().sqdist(out) };
         match q.arity() {
             (2, 2) => self.seg.run(e, q, aos, o),
@@ -105,7 +105,7 @@ impl<T: Float> Workload<T> {
         e: Engine,
         out: &mut [ClosestPoints<T>],
     ) -> Result<PathCounts, tridist::Error> {
-        let e = if q == Query::Within { e.margin(self.margin)? } else { e };
+        let e = if q == Query::Within { e.margin(self.margin) } else { e };
         let o = Outputs::new().closest_points(out);
         match q.arity() {
             (2, 2) => self.seg.run(e, q, false, o),

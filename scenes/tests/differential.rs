@@ -190,7 +190,7 @@ fn strict_penalty_rows<T: tridist_scenes::Float>(failures: &mut Vec<String>) {
             family,
             tridist_scenes::seed(),
             n,
-            |e| e.penalty(&o).expect("valid options"),
+            |e| e.penalty(&o),
             |_, _| {},
         );
         assert!(!rows.is_empty(), "no variant ran");
@@ -237,7 +237,7 @@ fn tight_verdicts<T: tridist_scenes::Float>(query: Query, failures: &mut Vec<Str
         let mut ran = 0;
         for v in Variant::ALL {
             let Some(e) = v.engine_or_skip() else { continue };
-            let e = e.tolerance(tridist::Tolerance::scaled(TIGHT)).expect("a valid tolerance");
+            let e = e.tolerance(tridist::Tolerance::scaled(TIGHT));
             let o = run_with(e, query, v, &cases, Some(&ms))
                 .unwrap_or_else(|err| panic!("{} {} {}: {err}", query.name(), v.name(), T::NAME));
             ran += 1;

@@ -47,11 +47,12 @@ pub(crate) trait Entries: Token {
 /// The entry points of one instruction set and precision, generated from the registry: for
 /// each query a function `run` (attribute `$attr`: the instruction set's `target_feature`, or
 /// `inline(never)` for the portable code) instantiating the driver with the lane type `$l`, in a
-/// module of its own (`p32::TriTri::run`). The compiler partitions codegen units by module and
-/// merges only the smallest, so each large entry point is optimised in a unit of its own: the
-/// build's peak memory is that of one entry point per parallel job, not of every query of an
-/// instruction set at once (#17: the release build's peak fell from 1.29 to 0.95 GB; see
-/// docs/notes/build-time.md).
+/// module of its own (`p32::TriTri::run`). The compiler starts with a codegen unit per module
+/// and merges the smallest until the profile's `codegen-units` remain (16 by default in release):
+/// then each unit holds four or five entry points of one instruction set and precision, not
+/// every query of an instruction set at once, so the build's peak memory is that of a few entry
+/// points per parallel job (the release build's peak fell from 1.29 to 0.95 GB; the partition,
+/// `-Z print-mono-items=yes`, and the figures are in docs/notes/build-time.md).
 macro_rules! entry_modules {
     ($p:ident, $t:ty, $tok:ty, $attr:meta, $l:ty, $($v:ident, $m:ident :: $k:ident;)*) => {
         mod $p {

@@ -59,11 +59,13 @@ pub const ISA_ENV: &str = "TRIDIST_ISA";
 // (checked when the crate compiles: pieces are whole chunks of the driver)
 const _: () = assert!(Engine::PIECE.is_multiple_of(crate::drv::CHUNK));
 
-/// Building an engine: every setter takes the engine by value and returns the changed one.
-/// Those whose argument can be invalid ([`Engine::new`], [`Engine::tolerance`],
-/// [`Engine::margin`], [`Engine::penalty`]) check it there and return `Result<Engine, Error>`,
-/// so that a query never fails on a setting; the others ([`Engine::threads`],
-/// [`Engine::exact`], [`Engine::quick_stage`]) cannot fail and return `Engine`.
+/// Building an engine: every setter takes the engine by value and returns the changed one, and
+/// none fails (as [`std::thread::Builder`]'s). A setting is checked where it is used: every
+/// query on an engine with an invalid setting returns that setting's error
+/// ([`Error::InvalidTolerance`], [`Error::InvalidMargin`], [`Error::InvalidOptions`]) before it
+/// reads its input, and [`Engine::check`] returns the same error up front. Only the
+/// constructors that depend on the machine ([`Engine::new`], [`Engine::from_env`]) return a
+/// `Result`.
 impl Engine {
     /// Pieces of a batch split over threads ([`Engine::threads`]) are multiples of this many
     /// pairs (a multiple of the SoA padding and of the driver's chunk): each piece costs a lock,
@@ -182,13 +184,10 @@ impl Engine {
         Engine { threads: n, ..self }
     }
 
-    /// The same engine with another tolerance ([`Tolerance`]).
-    ///
-    /// # Errors
-    /// [`Error::InvalidTolerance`] for negative or NaN entries.
-    pub fn tolerance(self, tol: Tolerance) -> Result<Engine, Error> {
-        tol.check()?;
-        Ok(Engine { tol, ..self })
+    /// The same engine with another tolerance ([`Tolerance`]). A tolerance with a negative or
+    /// NaN entry makes every query return [`Error::InvalidTolerance`] ([`Engine::check`]).
+    pub fn tolerance(self, tol: Tolerance) -> Engine {
+        Engine { tol, ..self }
     }
 
     /// The tolerance in use.
@@ -240,25 +239,17 @@ impl Engine {
         self.quick
     }
 
-    /// The same engine with the margin of [`Query::Within`] for [`Engine::run`].
-    ///
-    /// # Errors
-    /// [`Error::InvalidMargin`] for a negative or non-finite margin.
-    pub fn margin(self, margin: f64) -> Result<Engine, Error> {
-        if !(margin.is_finite() && margin >= 0.0) {
-            return Err(Error::InvalidMargin);
-        }
-        Ok(Engine { margin, ..self })
+    /// The same engine with the margin of [`Query::Within`] for [`Engine::run`]. A negative or
+    /// non-finite margin makes every query return [`Error::InvalidMargin`] ([`Engine::check`]).
+    pub fn margin(self, margin: f64) -> Engine {
+        Engine { margin, ..self }
     }
 
-    /// The same engine with the options of [`Query::Penalty`] for [`Engine::run`].
-    ///
-    /// # Errors
-    /// [`Error::InvalidOptions`] when [`PenaltyOptions::is_valid`] fails.
-    pub fn penalty<T: Real>(self, o: &PenaltyOptions<T>) -> Result<Engine, Error> {
-        if !o.is_valid() {
-            return Err(Error::InvalidOptions);
-        }
+    /// The same engine with the options of [`Query::Penalty`] for [`Engine::run`]. Options that
+    /// fail [`PenaltyOptions::is_valid`] make every query return [`Error::InvalidOptions`]
+    /// ([`Engine::check`]), and so do options valid in `f64` but not in the precision of the
+    /// batch they are used on (a `rho` beyond `f32`'s range, say).
+    pub fn penalty<T: Real>(self, o: &PenaltyOptions<T>) -> Engine {
         let c = |x: T| x.to_f64();
         let penalty = PenaltyOptions {
             rho: c(o.rho),
@@ -267,13 +258,53 @@ impl Engine {
             max_iter: o.max_iter,
             start: o.start.map(c),
         };
-        Ok(Engine { penalty: Some(penalty), ..self })
+        Engine { penalty: Some(penalty), ..self }
     }
 
-    pub(crate) fn params<T: Real>(&self) -> Params<T> {
-        let u = T::UNIT_ROUNDOFF.to_f64();
+    /// The error every query on this engine returns for its settings, if any: the setters
+    /// never fail ([`Engine`]'s builder convention), so this is where an invalid tolerance,
+    /// margin or penalty options show.
+    ///
+    /// # Errors
+    /// [`Error::InvalidTolerance`] for a negative or NaN tolerance entry,
+    /// [`Error::InvalidMargin`] for a negative or non-finite margin, [`Error::InvalidOptions`]
+    /// for penalty options that fail [`PenaltyOptions::is_valid`].
+    ///
+    /// # Example
+    /// ```
+    /// use tridist::{Engine, Error};
+    /// let e = Engine::auto().margin(-1.0);
+    /// assert_eq!(e.check(), Err(Error::InvalidMargin));
+    /// let a = [[[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]];
+    /// let mut out = [0.0];
+    /// assert_eq!(e.sqdist_triangle_triangle(&a[..], &a[..], &mut out).err(), Some(Error::InvalidMargin));
+    /// assert!(e.margin(0.5).check().is_ok());
+    /// ```
+    pub fn check(&self) -> Result<(), Error> {
+        self.tol.check()?;
+        if !(self.margin.is_finite() && self.margin >= 0.0) {
+            return Err(Error::InvalidMargin);
+        }
+        match &self.penalty {
+            Some(p) if !p.is_valid() => Err(Error::InvalidOptions),
+            _ => Ok(()),
+        }
+    }
+
+    /// The parameters of a query in precision `T`, after [`Engine::check`]; the penalty options
+    /// must be valid in `T` too.
+    pub(crate) fn params<T: Real>(&self) -> Result<Params<T>, Error> {
+        self.check()?;
+        if !self.penalty_in::<T>().is_valid() {
+            return Err(Error::InvalidOptions);
+        }
+        Ok(self.params_of_checked::<T>())
+    }
+
+    /// The penalty options in precision `T` (the defaults of `T` when none were set).
+    fn penalty_in<T: Real>(&self) -> PenaltyOptions<T> {
         let c = T::from_f64;
-        let penalty = match &self.penalty {
+        match &self.penalty {
             Some(p) => PenaltyOptions {
                 rho: c(p.rho),
                 reg: c(p.reg),
@@ -282,13 +313,20 @@ impl Engine {
                 start: p.start.map(c),
             },
             None => PenaltyOptions::<T>::default(),
-        };
+        }
+    }
+
+    /// The parameters of a query in precision `T`, for an engine whose settings were checked in
+    /// `T` or a narrower precision (so valid in `T` too).
+    pub(crate) fn params_of_checked<T: Real>(&self) -> Params<T> {
+        let u = T::UNIT_ROUNDOFF.to_f64();
+        let c = T::from_f64;
         Params {
             margin: c(self.margin),
             tol_scaled: c(self.tol.scaled * u),
             tol_abs: c(self.tol.absolute),
             tol_rel: c(self.tol.relative),
-            penalty: penalty.params(),
+            penalty: self.penalty_in::<T>().params(),
             quick: self.quick,
         }
     }
@@ -304,9 +342,10 @@ impl Engine {
     /// [`Engine::penalty`].
     ///
     /// # Errors
-    /// [`Error::Arity`] when `KA`, `KB` are not the query's primitive sizes
-    /// ([`Query::arity`]), [`Error::LengthMismatch`] when `a`, `b` and the outputs disagree in
-    /// length. An empty batch is fine and writes nothing.
+    /// The engine's setting errors first ([`Engine::check`]), then [`Error::Arity`] when `KA`,
+    /// `KB` are not the query's primitive sizes ([`Query::arity`]), [`Error::LengthMismatch`]
+    /// when `a`, `b` and the outputs disagree in length. An empty batch is fine and writes
+    /// nothing.
     ///
     /// # Returns
     /// Which path the pairs took ([`PathCounts`]).
@@ -317,6 +356,7 @@ impl Engine {
         b: impl Into<Prims<'a, T, KB>>,
         out: Outputs<'_, T>,
     ) -> Result<PathCounts, Error> {
+        let prm = self.params::<T>()?;
         if query.arity() != (KA, KB) {
             return Err(Error::Arity { query, expected: query.arity(), found: (KA, KB) });
         }
@@ -358,7 +398,7 @@ impl Engine {
             a: a.src(),
             b: b.src(),
             n,
-            prm: self.params::<T>(),
+            prm,
             sink: out.sink,
             counts: PathCounts::default(),
             widen: true,
@@ -399,7 +439,8 @@ macro_rules! distance_methods {
                 ///
                 /// # Errors
                 /// [`Error::LengthMismatch`] when `a`, `b` and `out` disagree in length (a
-                /// [`Prims::One`] side matches any length). An empty batch is fine.
+                /// [`Prims::One`] side matches any length); the engine's setting errors
+                /// ([`Engine::check`]). An empty batch is fine.
                 ///
                 /// # Precision
                 /// Within the engine's [`Tolerance`] for every certified pair (the returned
@@ -461,7 +502,7 @@ impl Engine {
     /// [`Engine::sqdist_triangle_triangle`], thresholded.
     ///
     /// # Errors
-    /// [`Error::InvalidMargin`] for a negative or non-finite margin; lengths as
+    /// [`Error::InvalidMargin`] for a negative or non-finite `margin`; otherwise as
     /// [`Engine::sqdist_triangle_triangle`].
     pub fn within_margin_triangle_triangle<'a, T: Real>(
         &self,
@@ -470,7 +511,7 @@ impl Engine {
         margin: T,
         out: &mut [T],
     ) -> Result<PathCounts, Error> {
-        self.margin(margin.to_f64())?.run(Query::Within, a, b, Outputs::new().sqdist(out))
+        self.margin(margin.to_f64()).run(Query::Within, a, b, Outputs::new().sqdist(out))
     }
 
     /// Triangle-triangle distance by Krestenitis & Koziara's penalty method ([`Query::Penalty`]):
@@ -495,6 +536,6 @@ impl Engine {
         out: &mut [ClosestPoints<T>],
         iters: &mut [u32],
     ) -> Result<PathCounts, Error> {
-        self.penalty(options)?.run(Query::Penalty, a, b, Outputs::new().closest_points(out).iterations(iters))
+        self.penalty(options).run(Query::Penalty, a, b, Outputs::new().closest_points(out).iterations(iters))
     }
 }

@@ -143,7 +143,7 @@ impl Engine {
             a: Src::Aos { flat: &r.fa, k: ka },
             b: Src::Aos { flat: &r.fb, k: kb },
             n,
-            prm: self.params::<f64>(),
+            prm: self.params_of_checked::<f64>(),
             sink: Sink {
                 d: Some(&mut r.d[..n]),
                 p: if points { Some(&mut r.p[..n]) } else { None },

@@ -40,11 +40,11 @@ impl Engine {
     /// nearer the origin together, or scale the meshes, for the closest pair.
     ///
     /// # Errors
-    /// [`Error::InvalidPose`] for a non-finite pose, [`Error::NonFiniteCoordinate`] when a
-    /// moved coordinate overflows; under [`crate::Tolerance::CORRECTLY_ROUNDED`],
-    /// [`Error::Undecided`] when a pair that may hold the minimum could not be decided without
-    /// the exact oracle, or when the squared distance is near or beyond `T`'s range (see
-    /// "Correctly rounded" below).
+    /// The engine's setting errors ([`Engine::check`]), [`Error::InvalidPose`] for a non-finite
+    /// pose, [`Error::NonFiniteCoordinate`] when a moved coordinate overflows; under
+    /// [`crate::Tolerance::CORRECTLY_ROUNDED`], [`Error::Undecided`] when a pair that may hold
+    /// the minimum could not be decided without the exact oracle, or when the squared distance
+    /// is near or beyond `T`'s range (see "Correctly rounded" below).
     ///
     /// # Correctly rounded
     /// Under [`crate::Tolerance::CORRECTLY_ROUNDED`] `sqdist` is the smallest exact squared
@@ -84,7 +84,7 @@ impl Engine {
         b: &Mesh<T>,
         pose_b: &Pose<T>,
     ) -> Result<Option<MeshDistance<T>>, Error> {
-        let plain = self.tolerance(crate::Tolerance::DEFAULT)?;
+        let plain = self.tolerance(crate::Tolerance::DEFAULT);
         let Some(first) = plain.mesh_distance(a, pose_a, b, pose_b)? else { return Ok(None) };
         // S: the largest moved coordinate of both meshes (their root boxes)
         let s = [a.moved_box(0, &Moved::of(pose_a)), b.moved_box(0, &Moved::of(pose_b))]
@@ -162,7 +162,8 @@ impl Engine {
     /// tie at `+inf`, ordered by triangle numbers, so a cap cannot narrow that search.
     ///
     /// # Errors
-    /// [`Error::InvalidMargin`], [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].
+    /// [`Error::InvalidMargin`] for `margin`, the engine's other setting errors
+    /// ([`Engine::check`]), [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].
     pub fn mesh_contacts<T: Real>(
         &self,
         a: &Mesh<T>,
@@ -172,7 +173,7 @@ impl Engine {
         margin: T,
         cap: Option<usize>,
     ) -> Result<Vec<Contact<T>>, Error> {
-        let e = self.margin(margin.to_f64())?;
+        let e = self.margin(margin.to_f64());
         let state = || Contacts::new(margin.to_f64(), e.current_tolerance(), cap);
         let mut found = if self.thread_count() > 1 {
             contacts_threaded(&e, a, pose_a, b, pose_b, &state)?
@@ -204,7 +205,8 @@ impl Engine {
     /// boxes first, so it stays fast there (module docs, "The traversal").
     ///
     /// # Errors
-    /// [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].
+    /// The engine's setting errors ([`Engine::check`]), [`Error::InvalidPose`],
+    /// [`Error::NonFiniteCoordinate`].
     pub fn mesh_intersect<T: Real>(
         &self,
         a: &Mesh<T>,
@@ -229,7 +231,8 @@ impl Engine {
     /// pairs' squared distances only. One thread whatever [`Engine::threads`] says.
     ///
     /// # Errors
-    /// [`Error::InvalidMargin`], [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].
+    /// [`Error::InvalidMargin`] for `margin`, the engine's other setting errors
+    /// ([`Engine::check`]), [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`].
     pub fn mesh_within_margin<T: Real>(
         &self,
         a: &Mesh<T>,
@@ -238,7 +241,7 @@ impl Engine {
         pose_b: &Pose<T>,
         margin: T,
     ) -> Result<Option<(usize, usize)>, Error> {
-        let e = self.margin(margin.to_f64())?;
+        let e = self.margin(margin.to_f64());
         let mut s = FirstHit::new(e.current_tolerance(), Some(margin.to_f64()));
         search::<T, _>(&e, a, pose_a, b, pose_b, &mut s)?;
         Ok(s.hit)
@@ -250,7 +253,8 @@ impl Engine {
     /// still; for f64, farther than about 1.3e154, a point of the first triangle answered).
     ///
     /// # Errors
-    /// [`Error::InvalidPose`], [`Error::NonFiniteCoordinate`] (also for a non-finite `x`),
+    /// The engine's setting errors ([`Engine::check`]), [`Error::InvalidPose`],
+    /// [`Error::NonFiniteCoordinate`] (also for a non-finite `x`),
     /// [`Error::Unsupported`] under [`crate::Tolerance::CORRECTLY_ROUNDED`].
     pub fn mesh_closest_point<T: Real>(
         &self,
@@ -264,6 +268,7 @@ impl Engine {
                 setting: "correctly rounded answers",
             });
         }
+        self.params::<T>()?;
         pose.check()?;
         if x.iter().any(|c| !c.is_finite()) {
             return Err(Error::NonFiniteCoordinate);

@@ -674,7 +674,7 @@ fn capped_contacts_are_the_first_of_all_and_held_in_bounded_memory() {
         }
     }
     // one thread's search state: the contacts held at the end
-    let e = Engine::auto().margin(margin as f64).expect("margin");
+    let e = Engine::auto().margin(margin as f64);
     let held = |cap: Option<usize>| {
         let mut s = Contacts::<f32>::new(margin as f64, e.current_tolerance(), cap);
         search(&e, &a, &pa, &b, &pb, &mut s).expect("search");

@@ -361,6 +361,7 @@ pub(super) fn search<T: Real, S: Search<T>>(
     pb: &Pose<T>,
     s: &mut S,
 ) -> Result<(), Error> {
+    e.params::<T>()?;
     let e = &e.for_small_batches();
     pa.check()?;
     pb.check()?;

@@ -22,7 +22,7 @@ struct Row {
 
 fn row<T: Float>(family: Family, seed: u64, n: usize) -> Option<Row> {
     let v = super::best();
-    let e = v.engine().ok()?.tolerance(Tolerance::CORRECTLY_ROUNDED).ok()?;
+    let e = v.engine().ok()?.tolerance(Tolerance::CORRECTLY_ROUNDED);
     let cases = tridist_scenes::families::generate::<T>(family, seed, n);
     let o = run_with(e, Query::TriTri, v, &cases, None).ok()?;
     let c = o.counts;
