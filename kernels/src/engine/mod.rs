@@ -295,10 +295,11 @@ impl Engine {
     /// must be valid in `T` too.
     pub(crate) fn params<T: Real>(&self) -> Result<Params<T>, Error> {
         self.check()?;
-        if !self.penalty_in::<T>().is_valid() {
+        let penalty = self.penalty_in::<T>();
+        if !penalty.is_valid() {
             return Err(Error::InvalidOptions);
         }
-        Ok(self.params_of_checked::<T>())
+        Ok(self.params_with(penalty))
     }
 
     /// The penalty options in precision `T` (the defaults of `T` when none were set).
@@ -319,6 +320,10 @@ impl Engine {
     /// The parameters of a query in precision `T`, for an engine whose settings were checked in
     /// `T` or a narrower precision (so valid in `T` too).
     pub(crate) fn params_of_checked<T: Real>(&self) -> Params<T> {
+        self.params_with(self.penalty_in::<T>())
+    }
+
+    fn params_with<T: Real>(&self, penalty: PenaltyOptions<T>) -> Params<T> {
         let u = T::UNIT_ROUNDOFF.to_f64();
         let c = T::from_f64;
         Params {
@@ -326,7 +331,7 @@ impl Engine {
             tol_scaled: c(self.tol.scaled * u),
             tol_abs: c(self.tol.absolute),
             tol_rel: c(self.tol.relative),
-            penalty: self.penalty_in::<T>().params(),
+            penalty: penalty.params(),
             quick: self.quick,
         }
     }
