@@ -280,20 +280,67 @@ fn differential(data: &[u8], queries: &[Query], judge: Judge) -> Verdict {
 /// The salt of the choice of a (query, precision) check (beside [`salt`]'s of the variants).
 const CHECK_SALT: u64 = 0x5eed;
 
+/// The distance targets and the queries each judges against the bound table: their committed
+/// findings set the adversarial rows ([`crate::bounds::ADVERSARIAL`], [`measure`]).
+pub const DISTANCE_TARGETS: [(&str, &[Query]); 3] = [
+    ("tri_tri", &[Query::TriTri, Query::TriTriBrute]),
+    ("seg_seg", &[Query::SegSeg]),
+    ("point_tri", &[Query::PointTri]),
+];
+
+/// The queries a distance target judges (empty for the other targets).
+fn distance_queries(target: &str) -> &'static [Query] {
+    DISTANCE_TARGETS.iter().find(|t| t.0 == target).map_or(&[], |t| t.1)
+}
+
+/// One input of a distance target measured on every variant (both quick-stage settings for
+/// triangle distance), as its checks would judge it: for each query and precision it checks,
+/// the largest E and point error. What the adversarial rows are set from.
+pub fn measure(target: &str, data: &[u8]) -> Vec<(Query, &'static str, [f64; 2])> {
+    let Some((src, _)) = pair_source(data) else { return Vec::new() };
+    let mut out = Vec::new();
+    for &q in distance_queries(target) {
+        if let Some((c, _)) = src.build::<f32>() {
+            out.push((q, "f32", measure_case(q, c)));
+        }
+        if let Some((c, _)) = src.build::<f64>() {
+            out.push((q, "f64", measure_case(q, c)));
+        }
+    }
+    out
+}
+
+fn measure_case<T: Float>(query: Query, case: Case<T>) -> [f64; 2] {
+    let cases = vec![case];
+    let t = truth(query, &cases);
+    let settings: &[bool] = if query == Query::TriTri { &[true, false] } else { &[true] };
+    let mut worst = [0.0f64; 2];
+    for v in Variant::ALL {
+        let Some(e) = v.engine_or_skip() else { continue };
+        for &quick in settings {
+            // an error is the checks' to report (`check` fails on it); nothing to measure
+            let Ok(o) = crate::eval::run_with(e.quick_stage(quick), query, v, &cases, None) else { continue };
+            let (st, _) = crate::eval::summarise(query, &cases, &t, &o, crate::bounds::VERDICT_ALLOW, None);
+            worst = [worst[0].max(st.max_excess), worst[1].max(st.max_point_error)];
+        }
+    }
+    worst
+}
+
 /// Triangle distance (fast stage + PQP, and brute force), every variant and precision,
 /// against the oracle.
 pub fn tri_tri(data: &[u8], judge: Judge) -> Verdict {
-    differential(data, &[Query::TriTri, Query::TriTriBrute], judge)
+    differential(data, distance_queries("tri_tri"), judge)
 }
 
 /// Segment-segment distance against the oracle.
 pub fn seg_seg(data: &[u8], judge: Judge) -> Verdict {
-    differential(data, &[Query::SegSeg], judge)
+    differential(data, distance_queries("seg_seg"), judge)
 }
 
 /// Point-triangle distance against the oracle.
 pub fn point_tri(data: &[u8], judge: Judge) -> Verdict {
-    differential(data, &[Query::PointTri], judge)
+    differential(data, distance_queries("point_tri"), judge)
 }
 
 /// The intersection predicate against the oracle.

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use tridist_scenes::fuzzing::{seed_inputs, Judge, Target, TARGETS};
+use tridist_scenes::fuzzing::{measure, seed_inputs, Judge, Target, DISTANCE_TARGETS, TARGETS};
 
 fn regressions_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/regressions")
@@ -38,7 +38,7 @@ fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
 }
 
 /// The committed findings as of this writing: the replay must find at least these.
-const REPLAYED_AT_LEAST: usize = 25;
+const REPLAYED_AT_LEAST: usize = 29;
 
 #[test]
 fn committed_findings_replay_clean() {
@@ -95,4 +95,54 @@ fn replay_reports_a_failing_input() {
     let t = Target { name: "picky", run: picky };
     let inputs = vec![("ok".to_string(), vec![1]), ("bad".to_string(), vec![7])];
     assert_eq!(replay(&t, &inputs), vec!["picky bad: seven".to_string()]);
+}
+
+/// The adversarial rows (`bounds::ADVERSARIAL`) are what the committed findings of the distance
+/// targets measure now: a row below its measurement would let adversarial input fail on every
+/// replay, a row far above it (stale: more than a tenth plus 0.1 over) would hold fuzzed input
+/// to a bound nothing reaches. On failure the lines to paste into `scenes/src/adversarial.in`
+/// are printed.
+#[test]
+fn adversarial_rows_are_the_committed_findings_measured() {
+    use std::collections::BTreeMap;
+    let dir = regressions_dir();
+    let mut worst: BTreeMap<(&'static str, &'static str), [f64; 2]> = BTreeMap::new();
+    for (target, queries) in DISTANCE_TARGETS {
+        for q in queries {
+            for p in ["f32", "f64"] {
+                worst.insert((q.name(), p), [0.0, 0.0]);
+            }
+        }
+        for (_, data) in files(&dir.join(target)) {
+            for (q, p, [e, pe]) in measure(target, &data) {
+                let w = worst.get_mut(&(q.name(), p)).expect("a query of the target");
+                *w = [w[0].max(e), w[1].max(pe)];
+            }
+        }
+    }
+    let lines: Vec<String> = worst
+        .iter()
+        .map(|((q, p), [e, pe])| format!("    (\"{q}\", \"{p}\", [{e:.3e}, {pe:.3e}]),"))
+        .collect();
+    println!("ADVERSARIAL rows (scenes/src/adversarial.in):\n{}", lines.join("\n"));
+    let mut wrong = Vec::new();
+    for ((q, p), measured) in &worst {
+        let query = tridist::Query::ALL.iter().copied().find(|x| x.name() == *q).expect("a query");
+        let recorded = tridist_scenes::bounds::adversarial(query, p);
+        for (k, what) in ["E", "point error"].iter().enumerate() {
+            let m = measured[k];
+            match recorded {
+                None => wrong.push(format!("{q} {p}: no row recorded")),
+                Some(r) if m > r[k] * (1.0 + 1e-3) => {
+                    wrong.push(format!("{q} {p}: {what} measured {m:.3e} over the recorded {:.3e}", r[k]))
+                }
+                Some(r) if r[k] > m * 1.1 + 0.1 => {
+                    wrong.push(format!("{q} {p}: {what} recorded {:.3e}, stale: measured {m:.3e}", r[k]))
+                }
+                _ => {}
+            }
+        }
+    }
+    wrong.dedup();
+    assert!(wrong.is_empty(), "{}\npaste the lines printed above", wrong.join("\n"));
 }
