@@ -129,11 +129,11 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 /// * Intersection verdicts ([`Query::Intersect`](crate::Query::Intersect)) are decided as under
 ///   [`Tolerance::EXACT`], and so are the mesh queries' decisions (contacts, clearance,
 ///   intersection). [`Engine::mesh_distance`](crate::Engine::mesh_distance) returns the
-///   correctly rounded minimum over all triangle pairs, or
+///   correctly rounded minimum over all triangle pairs, and
+///   [`Engine::mesh_closest_point`](crate::Engine::mesh_closest_point) over all triangles, or
 ///   [`Error::Undecided`](crate::Error::Undecided) when that needs the oracle. The penalty
 ///   method, an approximation, refuses the mode
-///   ([`Error::Unsupported`](crate::Error::Unsupported)), as does the closest point of a mesh
-///   for now.
+///   ([`Error::Unsupported`](crate::Error::Unsupported)).
 ///
 /// The square root of `RN(D*)` is not always `RN(sqrt(D*))`: the mode rounds squares.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -252,10 +252,20 @@ impl Engine {
     /// `+inf`, ranked and named as [`Engine::mesh_distance`] says (for f32 the closest point
     /// still; for f64, farther than about 1.3e154, a point of the first triangle answered).
     ///
+    /// Under [`crate::Tolerance::CORRECTLY_ROUNDED`] `sqdist` is the smallest exact squared
+    /// distance from `x` to the triangles of the moved mesh ([`Mesh::triangle_at`]), rounded to
+    /// nearest in `T`, and the triangle named is the first in triangle order whose correctly
+    /// rounded square is that value; the point is that triangle's closest point as the
+    /// correctly rounded point-triangle query returns it. Every triangle whose exact distance
+    /// can be the minimum (within the default search's answer plus twice the default
+    /// tolerance's width) is answered by that query.
+    ///
     /// # Errors
     /// The engine's setting errors ([`Engine::check`]), [`Error::InvalidPose`],
-    /// [`Error::NonFiniteCoordinate`] (also for a non-finite `x`),
-    /// [`Error::Unsupported`] under [`crate::Tolerance::CORRECTLY_ROUNDED`].
+    /// [`Error::NonFiniteCoordinate`] (also for a non-finite `x`); under
+    /// [`crate::Tolerance::CORRECTLY_ROUNDED`], [`Error::Undecided`] when a triangle that may
+    /// hold the minimum could not be decided without the exact oracle (feature `exact`), or
+    /// when the squared distance is near or beyond `T`'s range.
     pub fn mesh_closest_point<T: Real>(
         &self,
         m: &Mesh<T>,
@@ -263,10 +273,7 @@ impl Engine {
         x: Point<T>,
     ) -> Result<Option<MeshPoint<T>>, Error> {
         if self.current_tolerance().correctly_rounded {
-            return Err(Error::Unsupported {
-                query: "mesh_closest_point",
-                setting: "correctly rounded answers",
-            });
+            return self.mesh_closest_point_rounded(m, pose, x);
         }
         self.params::<T>()?;
         pose.check()?;
@@ -330,5 +337,87 @@ impl Engine {
             flush(&mut ids, &mut tris, &mut best, &mut best_d)?;
         }
         Ok(best)
+    }
+
+    /// [`Engine::mesh_closest_point`] under [`crate::Tolerance::CORRECTLY_ROUNDED`], as
+    /// [`Engine::mesh_distance`] does it for two meshes: the search at the default tolerance
+    /// bounds the minimum from above, every triangle whose box comes within that bound plus
+    /// twice the default tolerance's width (`2 x 64 u S`) is answered by the correctly rounded
+    /// point-triangle query, and the smallest rounded square is the rounded minimum.
+    fn mesh_closest_point_rounded<T: Real>(
+        &self,
+        m: &Mesh<T>,
+        pose: &Pose<T>,
+        x: Point<T>,
+    ) -> Result<Option<MeshPoint<T>>, Error> {
+        let plain = self.tolerance(crate::Tolerance::DEFAULT);
+        let Some(first) = plain.mesh_closest_point(m, pose, x)? else { return Ok(None) };
+        let mv = Moved::of(pose);
+        let xf = x.map(Real::to_f64);
+        // S: the largest coordinate of the moved mesh (its root box) and of x
+        let (lo, hi) = m.moved_box(0, &mv);
+        let s = lo.iter().chain(hi.iter()).chain(xf.iter()).fold(0.0f64, |a, v| a.max(v.abs()));
+        let u = T::UNIT_ROUNDOFF.to_f64();
+        let w = 2.0 * crate::Tolerance::DEFAULT.scaled * u * s;
+        let reach = first.sqdist.to_f64().sqrt() * (1.0 + 4.0 * u) + w;
+        let reach2 = reach * reach * (1.0 + 4.0 * f64::EPSILON);
+        if !T::from_f64(reach).is_finite() || !reach2.is_finite() {
+            // squares near or beyond T's range: no reach bounds them
+            return Err(Error::Undecided);
+        }
+        // the candidates: every triangle whose box (rounded outward, its gap rounded down)
+        // comes within reach, and the default search's own triangle
+        let (mut ids, mut tris) = (Vec::new(), Vec::new());
+        let mut stack = vec![0u32];
+        while let Some(n) = stack.pop() {
+            if point_gap2(&xf, &m.moved_box(n as usize, &mv)) > reach2 {
+                continue;
+            }
+            let node = &m.nodes[n as usize];
+            if node.count > 0 {
+                for at in node.first as usize..(node.first + node.count) as usize {
+                    ids.push(m.order[at] as usize);
+                    tris.push(m.leaf_triangle_at(at, pose));
+                }
+            } else {
+                stack.extend(node.first..node.first + node.kids);
+            }
+        }
+        if !ids.contains(&first.tri) {
+            ids.push(first.tri);
+            tris.push(m.triangle_at(first.tri, pose).ok_or(Error::NonFiniteCoordinate)?);
+        }
+        let n = ids.len();
+        let mut cp = vec![ClosestPoints::default(); n];
+        let mut ok = vec![false; n];
+        let mut iv = vec![crate::Interval::default(); n];
+        self.run(
+            crate::Query::PointTri,
+            &[x],
+            &tris[..],
+            crate::Outputs::new().closest_points(&mut cp).certified(&mut ok).intervals(&mut iv),
+        )?;
+        for c in &cp {
+            check_finite(c.sqdist)?;
+        }
+        // the smallest rounded square, the first triangle among equals (`ids` holds the
+        // default search's triangle, so it is never empty)
+        let k = (0..n)
+            .min_by(|&a, &b| {
+                cp[a]
+                    .sqdist
+                    .partial_cmp(&cp[b].sqdist)
+                    .unwrap_or(core::cmp::Ordering::Equal)
+                    .then(ids[a].cmp(&ids[b]))
+            })
+            .ok_or(Error::Undecided)?;
+        let d = cp[k].sqdist;
+        // an undecided triangle whose square may round to the minimum or below leaves it
+        // undecided
+        let at_most = d.to_f64() * (1.0 + 4.0 * u);
+        if (0..n).any(|j| !ok[j] && iv[j].lo.to_f64() * iv[j].lo.to_f64() <= at_most) {
+            return Err(Error::Undecided);
+        }
+        Ok(Some(MeshPoint { sqdist: d, point: cp[k].q, tri: ids[k] }))
     }
 }
