@@ -317,6 +317,10 @@ fn an_invalid_setting_is_the_error_of_every_query() {
             let own = if err == Error::InvalidMargin { None } else { Some(err.clone()) };
             assert_eq!(b.mesh_within_margin(&tet, &here, &tet, &there, 0.5).err(), own);
             assert_eq!(b.mesh_contacts(&tet, &here, &tet, &there, 0.5, None).err(), own);
+            // the threaded contact search too, also where the roots are apart
+            let far = tridist::Pose::translation([300.0f32, 0.0, 0.0]);
+            assert_eq!(b.threads(2).mesh_contacts(&tet, &here, &tet, &there, 0.5, None).err(), own);
+            assert_eq!(b.threads(2).mesh_contacts(&tet, &here, &tet, &far, 0.5, None).err(), own);
             // a valid setting repairs the engine
             let fixed = match err {
                 Error::InvalidTolerance => b.tolerance(Tolerance::DEFAULT),
@@ -325,6 +329,14 @@ fn an_invalid_setting_is_the_error_of_every_query() {
             };
             assert_eq!(fixed.check(), Ok(()));
             assert!(fixed.sqdist_triangle_triangle(&a, &a, &mut out).is_ok());
+        }
+        // a bad margin argument on a valid engine, threaded or not, near or with the roots apart
+        let far = tridist::Pose::translation([300.0f32, 0.0, 0.0]);
+        for (t, p) in [(1, &there), (2, &there), (1, &far), (2, &far)] {
+            let r = e.threads(t).mesh_contacts(&tet, &here, &tet, p, f32::NAN, None);
+            assert_eq!(r.err(), Some(Error::InvalidMargin), "threads {t}");
+            let r = e.threads(t).mesh_within_margin(&tet, &here, &tet, p, -1.0);
+            assert_eq!(r.err(), Some(Error::InvalidMargin), "threads {t}");
         }
         // options valid in f64 but not in f32 (rho beyond f32's range): f32 queries refuse them
         let b = e.penalty(&big_rho);

@@ -174,6 +174,8 @@ impl Engine {
         cap: Option<usize>,
     ) -> Result<Vec<Contact<T>>, Error> {
         let e = self.margin(margin.to_f64());
+        // (the threaded search does not start from `search`, which checks the settings)
+        e.params::<T>()?;
         let state = || Contacts::new(margin.to_f64(), e.current_tolerance(), cap);
         let mut found = if self.thread_count() > 1 {
             contacts_threaded(&e, a, pose_a, b, pose_b, &state)?
