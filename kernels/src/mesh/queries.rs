@@ -122,23 +122,9 @@ impl Engine {
         for c in &cp {
             check_finite(c.sqdist)?;
         }
-        // the smallest rounded square, the first pair in triangle order among equals (`near`
-        // holds the default search's pair, so it is never empty)
-        let k = (0..near.len())
-            .min_by(|&x, &y| {
-                cp[x]
-                    .sqdist
-                    .partial_cmp(&cp[y].sqdist)
-                    .unwrap_or(core::cmp::Ordering::Equal)
-                    .then(near[x].cmp(&near[y]))
-            })
-            .ok_or(Error::Undecided)?;
+        // (`near` holds the default search's pair, so it is never empty)
+        let k = rounded_minimum(&cp, &ok, &iv, &near)?;
         let d = cp[k].sqdist;
-        // an undecided pair whose square may round to the minimum or below leaves it undecided
-        let at_most = d.to_f64() * (1.0 + 4.0 * T::UNIT_ROUNDOFF.to_f64());
-        if (0..near.len()).any(|j| !ok[j] && iv[j].lo.to_f64() * iv[j].lo.to_f64() <= at_most) {
-            return Err(Error::Undecided);
-        }
         Ok(Some(MeshDistance { sqdist: d, p: cp[k].p, q: cp[k].q, tri_a: near[k].0, tri_b: near[k].1 }))
     }
 
@@ -402,24 +388,34 @@ impl Engine {
         for c in &cp {
             check_finite(c.sqdist)?;
         }
-        // the smallest rounded square, the first triangle among equals (`ids` holds the
-        // default search's triangle, so it is never empty)
-        let k = (0..n)
-            .min_by(|&a, &b| {
-                cp[a]
-                    .sqdist
-                    .partial_cmp(&cp[b].sqdist)
-                    .unwrap_or(core::cmp::Ordering::Equal)
-                    .then(ids[a].cmp(&ids[b]))
-            })
-            .ok_or(Error::Undecided)?;
+        // (`ids` holds the default search's triangle, so it is never empty)
+        let k = rounded_minimum(&cp, &ok, &iv, &ids)?;
         let d = cp[k].sqdist;
-        // an undecided triangle whose square may round to the minimum or below leaves it
-        // undecided
-        let at_most = d.to_f64() * (1.0 + 4.0 * u);
-        if (0..n).any(|j| !ok[j] && iv[j].lo.to_f64() * iv[j].lo.to_f64() <= at_most) {
-            return Err(Error::Undecided);
-        }
         Ok(Some(MeshPoint { sqdist: d, point: cp[k].q, tri: ids[k] }))
     }
+}
+
+/// The candidate with the smallest correctly rounded square, the first by `key` (triangle
+/// order) among equals, for the correctly rounded mesh queries; [`Error::Undecided`] when there
+/// is none, or when an undecided candidate's square may round to that minimum or below.
+fn rounded_minimum<T: Real, K: Ord>(
+    cp: &[ClosestPoints<T>],
+    ok: &[bool],
+    iv: &[crate::Interval<T>],
+    key: &[K],
+) -> Result<usize, Error> {
+    let k = (0..cp.len())
+        .min_by(|&x, &y| {
+            cp[x]
+                .sqdist
+                .partial_cmp(&cp[y].sqdist)
+                .unwrap_or(core::cmp::Ordering::Equal)
+                .then(key[x].cmp(&key[y]))
+        })
+        .ok_or(Error::Undecided)?;
+    let at_most = cp[k].sqdist.to_f64() * (1.0 + 4.0 * T::UNIT_ROUNDOFF.to_f64());
+    if (0..cp.len()).any(|j| !ok[j] && iv[j].lo.to_f64() * iv[j].lo.to_f64() <= at_most) {
+        return Err(Error::Undecided);
+    }
+    Ok(k)
 }
