@@ -1,7 +1,7 @@
 //! The last escalation step (feature `exact`): the exact rational oracle (`tridist-oracle`,
 //! GMP), for pairs that no floating-point stage could certify within the tolerance. Its answer
-//! is the correctly rounded squared distance, the exact closest points rounded, and an
-//! interval a few ulps wide around the exact distance.
+//! is the correctly rounded squared distance and distance, the exact closest points rounded,
+//! and an interval a few ulps wide around the exact distance.
 
 use tridist_oracle::{exact_point, point_triangle, round, segment_segment, triangle_triangle, P3};
 
@@ -11,6 +11,8 @@ use crate::types::Point;
 /// One exact answer, rounded to `T`.
 pub(crate) struct ExactLane<T> {
     pub d: T,
+    /// The distance, correctly rounded (not the square root of `d`).
+    pub dist: T,
     pub p: Point<T>,
     pub q: Point<T>,
     pub lo: T,
@@ -59,5 +61,10 @@ pub(crate) fn answer<T: Real>(
     let lo = if lo < T::ZERO { T::ZERO } else { lo };
     let hi = d_hi.sqrt().step(true);
     let pt = |x: &P3| [to_t(&x[0]), to_t(&x[1]), to_t(&x[2])];
-    Some(ExactLane { d, p: pt(&r.p), q: pt(&r.q), lo, hi })
+    let dist = match T::PRECISION {
+        Precision::F32 => round::sqrt_to_f32(&r.d2).map(|x| x as f64),
+        Precision::F64 => round::sqrt_to_f64(&r.d2),
+    };
+    let dist = T::from_f64(dist?);
+    Some(ExactLane { d, dist, p: pt(&r.p), q: pt(&r.q), lo, hi })
 }

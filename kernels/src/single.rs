@@ -5,7 +5,8 @@
 
 use crate::pose::AsPoint;
 use crate::{
-    ClosestPoints, Engine, Error, Intersection, Interval, PenaltyOptions, Point, Proximity, Query, Real,
+    ClosestPoints, Engine, Error, Intersection, Interval, Outputs, PenaltyOptions, Point, Prims, Proximity,
+    Query, Real,
 };
 
 /// Everything a single query answers.
@@ -13,11 +14,16 @@ use crate::{
 pub struct Answer<T> {
     /// Squared distance and closest points (within-margin: `+inf` beyond the margin).
     pub closest: ClosestPoints<T>,
+    /// The distance: the square root of `closest.sqdist`, except under
+    /// [`crate::Tolerance::CORRECTLY_ROUNDED`], where it is the exact distance correctly
+    /// rounded (see [`crate::Outputs::distances`]).
+    pub distance: T,
     /// Certified interval of the distance.
     pub interval: Interval<T>,
     /// Intersection verdict (contact within the tolerance).
     pub verdict: Intersection,
-    /// Is the interval within the tolerance?
+    /// Is the interval within the tolerance? (Under [`crate::Tolerance::CORRECTLY_ROUNDED`]:
+    /// are the square and the distance both decided?)
     pub certified: bool,
     /// Penalty-method iterations (0 for the other queries).
     pub iterations: u32,
@@ -48,13 +54,53 @@ impl Engine {
             let f = |k: usize| s[if k < s.len() { k } else { 0 }].to_point();
             [f(0), f(1), f(2)]
         };
-        let l = crate::drv::single(query, &pad(a), &pad(b), &self.params::<T>()?, self.uses_exact());
+        let prm = self.params::<T>()?;
+        let (a, b) = (pad(a), pad(b));
+        if self.current_tolerance().correctly_rounded && !query.is_verdict() {
+            return self.single_rounded(query, &a, &b);
+        }
+        let l = crate::drv::single(query, &a, &b, &prm, self.uses_exact());
         Ok(Answer {
             closest: ClosestPoints { sqdist: l.d, p: l.p, q: l.q },
+            distance: l.d.sqrt(),
             interval: Interval { lo: l.lo, hi: l.hi },
             verdict: l.verdict(),
             certified: l.ok,
             iterations: l.it,
+        })
+    }
+}
+
+impl Engine {
+    /// [`Engine::single`] under [`crate::Tolerance::CORRECTLY_ROUNDED`]: a batch of one (the
+    /// mode decides pairs in blocks, with its own escalation).
+    fn single_rounded<T: Real>(
+        &self,
+        query: Query,
+        a: &[Point<T>; 3],
+        b: &[Point<T>; 3],
+    ) -> Result<Answer<T>, Error> {
+        let (mut cp, mut dist, mut iv) = ([ClosestPoints::default()], [T::ZERO], [Interval::default()]);
+        let (mut verdict, mut ok, mut it) = ([Intersection::Invalid], [false], [0u32]);
+        let out = Outputs::new()
+            .closest_points(&mut cp)
+            .distances(&mut dist)
+            .intervals(&mut iv)
+            .verdicts(&mut verdict)
+            .certified(&mut ok)
+            .iterations(&mut it);
+        match query.arity() {
+            (2, 2) => self.run(query, Prims::One([a[0], a[1]]), Prims::One([b[0], b[1]]), out),
+            (1, 3) => self.run(query, Prims::One([a[0]]), Prims::One(*b), out),
+            _ => self.run(query, Prims::One(*a), Prims::One(*b), out),
+        }?;
+        Ok(Answer {
+            closest: cp[0],
+            distance: dist[0],
+            interval: iv[0],
+            verdict: verdict[0],
+            certified: ok[0],
+            iterations: it[0],
         })
     }
 }

@@ -83,3 +83,49 @@ pub fn to_f32(q: &Rational) -> f32 {
     // The f64 holds an exactly representable f32 value (or infinity): the cast is exact.
     round_in(q, F32) as f32
 }
+
+/// `sqrt(a)` rounded in `fmt` (to nearest, ties to even) for `a >= 0`, as an exact f64
+/// (infinite on overflow). Exact in integers: with the quantum `2^qe` of the result's binade,
+/// `m = floor(sqrt(a) / 2^qe) = isqrt(floor(a / 4^qe))`, and `sqrt(a) / 2^qe` lies above
+/// `m + 1/2` exactly when `a / 4^qe > m^2 + m + 1/4` (a tie when equal).
+fn sqrt_round_abs(a: &Rational, fmt: Format) -> f64 {
+    if *a == 0 {
+        return 0.0;
+    }
+    // 2^e <= a < 2^(e+1), so 2^(e div 2) <= sqrt(a) < 2^(e div 2 + 1) (floor division)
+    let mut e = a.numer().significant_bits() as i64 - a.denom().significant_bits() as i64;
+    if *a < pow2_rational(e) {
+        e -= 1;
+    }
+    let se = e.div_euclid(2);
+    if se > fmt.emax {
+        return f64::INFINITY;
+    }
+    let qe = se.max(fmt.emin) - (fmt.p - 1);
+    let scaled = Rational::from(a * pow2_rational(-2 * qe));
+    let (frac, floor) = scaled.fract_floor(Integer::new());
+    let mut mi = floor.clone().sqrt();
+    // sqrt(scaled) - mi against 1/2: scaled against mi^2 + mi + 1/4 (frac is its fraction)
+    let low = Integer::from(&mi * &mi) + &mi;
+    let quarter = Rational::from((1, 4));
+    let above = floor > low || (floor == low && frac > quarter);
+    let tie = floor == low && frac == quarter;
+    if above || (tie && mi.is_odd()) {
+        mi += 1;
+    }
+    if qe + mi.significant_bits() as i64 - 1 > fmt.emax {
+        return f64::INFINITY;
+    }
+    mi.to_f64() * pow2(qe)
+}
+
+/// `sqrt(q)` correctly rounded to f64 (to nearest, ties to even; `None` for negative `q`).
+pub fn sqrt_to_f64(q: &Rational) -> Option<f64> {
+    (*q >= 0).then(|| sqrt_round_abs(q, F64))
+}
+
+/// `sqrt(q)` correctly rounded to f32 (to nearest, ties to even; `None` for negative `q`).
+pub fn sqrt_to_f32(q: &Rational) -> Option<f32> {
+    // The f64 holds an exactly representable f32 value (or infinity): the cast is exact.
+    (*q >= 0).then(|| sqrt_round_abs(q, F32) as f32)
+}

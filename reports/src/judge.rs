@@ -346,6 +346,7 @@ fn judge_as<T: Float>(cases_text: &str, answers_text: &str, a: &JudgeArgs) -> Re
         let n = idx.len();
         let out = Output {
             d: idx.iter().map(|&i| ans[i].d).collect(),
+            dist: Vec::new(),
             p: idx.iter().map(|&i| ans[i].points.map_or([T::ZERO; 3], |p| p.0)).collect(),
             q: idx.iter().map(|&i| ans[i].points.map_or([T::ZERO; 3], |p| p.1)).collect(),
             // no certificate: the interval that contains everything

@@ -28,7 +28,9 @@ use std::time::Duration;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use tridist::{Engine, Interval, PenaltyOptions, Query, Tolerance};
 use tridist_scenes::bounds::bound_any_family;
-use tridist_scenes::eval::{parse_case_line_exact, prims, run_with, summarise, truth, Variant};
+use tridist_scenes::eval::{
+    parse_case_line_exact, prims, run_with, run_with_distances, summarise, truth, Variant,
+};
 use tridist_scenes::float::Float;
 use tridist_scenes::peer::{self, Lib};
 use tridist_scenes::Case;
@@ -197,6 +199,11 @@ struct EvalArgs {
     /// With `--kernel oracle`: print the exact squared distance as a fraction.
     #[arg(long)]
     exact: bool,
+    /// Append the distance (not squared) after the square: its square root, except under
+    /// `--tolerance correctly-rounded`, where it is the exact distance correctly rounded,
+    /// decided on its own (with `--kernel oracle`: that value).
+    #[arg(long)]
+    distances: bool,
     /// Append the certified interval `[lo, hi]` of the distance (not squared).
     #[arg(long)]
     intervals: bool,
@@ -461,11 +468,15 @@ fn cmd_eval(a: &EvalArgs) -> Result<ExitCode, Fail> {
         outln!("oracle exact f32\noracle exact f64");
         return Ok(ExitCode::SUCCESS);
     }
-    if a.peer.is_some() && (a.k.kernel == Kernel::Oracle || a.check || a.intervals || a.points) {
+    if a.peer.is_some() && (a.k.kernel == Kernel::Oracle || a.check || a.intervals || a.points || a.distances)
+    {
         return Err(Fail(
-            "--peer prints the peer's squared distance only (no oracle, --check, --intervals or --points)"
+            "--peer prints the peer's squared distance only (no oracle, --check, --distances, --intervals or --points)"
                 .into(),
         ));
+    }
+    if a.distances && a.exact {
+        return Err(Fail("--exact prints the oracle's fraction of the square: not with --distances".into()));
     }
     if a.exact && a.k.kernel != Kernel::Oracle {
         return Err(Fail("--exact prints the oracle's fraction: use it with --kernel oracle".into()));
@@ -550,7 +561,9 @@ fn oracle_lines<T: Float>(q: Query, cases: &[Case<T>], a: &EvalArgs) -> Result<V
             if q == Query::Within
                 && a.k.margin.is_some_and(|m| t.d2 > rug::Rational::from_f64(m * m).unwrap_or_default())
             {
-                "inf".to_string()
+                if a.distances { "inf inf" } else { "inf" }.to_string()
+            } else if a.distances {
+                format!("{r:?} {:?}", tridist_scenes::eval::rn_sqrt::<T>(&t.d2))
             } else {
                 format!("{r:?}")
             }
@@ -561,8 +574,12 @@ fn oracle_lines<T: Float>(q: Query, cases: &[Case<T>], a: &EvalArgs) -> Result<V
 }
 
 fn kernel_lines<T: Float>(e: Engine, q: Query, cases: &[Case<T>], a: &EvalArgs) -> Result<Vec<String>, Fail> {
-    let out =
-        run_with(e, q, a.k.variant, cases, a.k.margin.map(|m| vec![T::from_f64(m); cases.len()]).as_deref())?;
+    let ms = a.k.margin.map(|m| vec![T::from_f64(m); cases.len()]);
+    let out = if a.distances && !q.is_verdict() {
+        run_with_distances(e, q, a.k.variant, cases, ms.as_deref())?
+    } else {
+        run_with(e, q, a.k.variant, cases, ms.as_deref())?
+    };
     let judged = a.check.then(|| {
         let tr = truth(q, cases);
         let b = bound_any_family(q, a.k.variant, T::NAME);
@@ -584,6 +601,10 @@ fn kernel_lines<T: Float>(e: Engine, q: Query, cases: &[Case<T>], a: &EvalArgs) 
                 format!("{d:?}")
             }
         };
+        if a.distances && !q.is_verdict() {
+            let d = out.dist[i];
+            l.push_str(&if d == T::INFINITY { " inf".to_string() } else { format!(" {d:?}") });
+        }
         if a.points && !q.is_verdict() {
             for x in out.p[i].iter().chain(out.q[i].iter()) {
                 l.push_str(&format!(" {x:?}"));
@@ -593,7 +614,7 @@ fn kernel_lines<T: Float>(e: Engine, q: Query, cases: &[Case<T>], a: &EvalArgs) 
             let Interval { lo, hi } = out.iv[i];
             l.push_str(&format!(" [{lo:?}, {hi:?}]"));
         }
-        // a square the correctly rounded mode could not decide is said to be so
+        // an answer the correctly rounded mode could not decide is said to be so
         if e.current_tolerance().correctly_rounded
             && !q.is_verdict()
             && !out.certified[i]

@@ -181,6 +181,10 @@ pub struct Output<T> {
     /// Squared distances (within-margin: `+inf` beyond the margin; intersection: 0 for
     /// intersecting, 1 for disjoint, NaN for invalid).
     pub d: Vec<T>,
+    /// Distances, when asked for ([`run_with_distances`]; empty otherwise): the square root of
+    /// `d`, except under the correctly rounded mode, where it is decided on its own
+    /// ([`tridist::Outputs::distances`]); verdict queries: NaN.
+    pub dist: Vec<T>,
     /// First closest points.
     pub p: Vec<Point<T>>,
     /// Second closest points.
@@ -201,6 +205,7 @@ impl<T: Float> Output<T> {
     fn zeroed(n: usize) -> Self {
         Output {
             d: vec![T::ZERO; n],
+            dist: vec![T::NAN; n],
             p: vec![[T::ZERO; 3]; n],
             q: vec![[T::ZERO; 3]; n],
             iv: vec![Interval::default(); n],
@@ -234,8 +239,9 @@ pub fn default_margin<T: Float>(c: &Case<T>) -> T {
     T::from_f64(s / 8.0)
 }
 
-/// Runs `query` with `variant` over `cases`, asking for every output the query has.
-/// Within-margin runs each case with its own margin (`margins`, else [`default_margin`]).
+/// Runs `query` with `variant` over `cases`, asking for every output the query has but
+/// distances ([`Output::dist`] is left empty: see [`run_with_distances`]). Within-margin runs
+/// each case with its own margin (`margins`, else [`default_margin`]).
 ///
 /// # Errors
 /// When the variant is unavailable.
@@ -259,12 +265,42 @@ pub fn run_with<T: Float>(
     cases: &[Case<T>],
     margins: Option<&[T]>,
 ) -> Result<Output<T>, tridist::Error> {
+    run_asking(e, query, variant, cases, margins, false)
+}
+
+/// [`run_with`] asking for distances too ([`tridist::Outputs::distances`]): under the
+/// correctly rounded mode a pair is then certified only when its distance is decided as well
+/// as its square.
+///
+/// # Errors
+/// As the batch API.
+pub fn run_with_distances<T: Float>(
+    e: Engine,
+    query: Query,
+    variant: Variant,
+    cases: &[Case<T>],
+    margins: Option<&[T]>,
+) -> Result<Output<T>, tridist::Error> {
+    run_asking(e, query, variant, cases, margins, true)
+}
+
+fn run_asking<T: Float>(
+    e: Engine,
+    query: Query,
+    variant: Variant,
+    cases: &[Case<T>],
+    margins: Option<&[T]>,
+    distances: bool,
+) -> Result<Output<T>, tridist::Error> {
     if query == Query::Within {
         let mut o = Output::zeroed(cases.len());
         for (i, c) in cases.iter().enumerate() {
             let m = margins.map_or_else(|| default_margin(c), |m| m[i]);
-            let one = run_pairs(e.margin(m.to_f64()), query, variant, std::slice::from_ref(c))?;
+            let one = run_pairs(e.margin(m.to_f64()), query, variant, std::slice::from_ref(c), distances)?;
             o.d[i] = one.d[0];
+            if distances {
+                o.dist[i] = one.dist[0];
+            }
             o.p[i] = one.p[0];
             o.q[i] = one.q[0];
             o.iv[i] = one.iv[0];
@@ -272,9 +308,12 @@ pub fn run_with<T: Float>(
             o.certified[i] = one.certified[0];
             o.counts.add(&one.counts);
         }
+        if !distances {
+            o.dist.clear();
+        }
         return Ok(o);
     }
-    run_pairs(e, query, variant, cases)
+    run_pairs(e, query, variant, cases, distances)
 }
 
 fn run_pairs<T: Float>(
@@ -282,16 +321,20 @@ fn run_pairs<T: Float>(
     query: Query,
     variant: Variant,
     cases: &[Case<T>],
+    distances: bool,
 ) -> Result<Output<T>, tridist::Error> {
     let mut o = Output::zeroed(cases.len());
+    if !distances {
+        o.dist.clear();
+    }
     let (pa, pb): (Vec<_>, Vec<_>) = cases.iter().map(|c| prims(query, c)).unzip();
     // a verdict query computes no distance: asking it for one is an error
     let out = if query.is_verdict() {
         Outputs::new().verdicts(&mut o.verdict).certified(&mut o.certified)
     } else {
-        Outputs::new()
-            .sqdist(&mut o.d)
-            .points(&mut o.p, &mut o.q)
+        let out = Outputs::new().sqdist(&mut o.d);
+        let out = if distances { out.distances(&mut o.dist) } else { out };
+        out.points(&mut o.p, &mut o.q)
             .intervals(&mut o.iv)
             .verdicts(&mut o.verdict)
             .certified(&mut o.certified)
@@ -394,6 +437,15 @@ pub fn rn<T: Float>(d2: &Rational) -> T {
         tridist::Precision::F32 => T::from_f64(tridist_oracle::round::to_f32(d2) as f64),
         tridist::Precision::F64 => T::from_f64(tridist_oracle::round::to_f64(d2)),
     }
+}
+
+/// `RN(sqrt(D*))` in `T`: the exact distance correctly rounded.
+pub fn rn_sqrt<T: Float>(d2: &Rational) -> T {
+    let r = match T::PRECISION {
+        tridist::Precision::F32 => tridist_oracle::round::sqrt_to_f32(d2).map(f64::from),
+        tridist::Precision::F64 => tridist_oracle::round::sqrt_to_f64(d2),
+    };
+    r.map_or(T::NAN, T::from_f64)
 }
 
 /// Computes the exact answers for `cases` under `query`.

@@ -89,13 +89,14 @@ fn salt<T: Float>(q: Query) -> u64 {
 }
 
 /// Every target.
-pub const TARGETS: [Target; 10] = [
+pub const TARGETS: [Target; 11] = [
     Target { name: "tri_tri", run: tri_tri },
     Target { name: "seg_seg", run: seg_seg },
     Target { name: "point_tri", run: point_tri },
     Target { name: "intersect", run: intersect },
     Target { name: "within", run: within },
     Target { name: "cert", run: cert },
+    Target { name: "rounded", run: rounded },
     Target { name: "raw_bits", run: raw_bits },
     Target { name: "parsers", run: parsers },
     Target { name: "oracle_filter", run: oracle_filter },
@@ -420,7 +421,7 @@ fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance, judge: Judge) -> Verdict {
         let s = crate::eval::truth(q, cases)[0].s;
         for (v, e) in judged_variants::<T>(q, judge) {
             let e = e.tolerance(tol);
-            let o = crate::eval::run_with(e, q, v, cases, None).map_err(|e| e.to_string())?;
+            let o = crate::eval::run_with_distances(e, q, v, cases, None).map_err(|e| e.to_string())?;
             let iv: Interval<T> = o.iv[0];
             let where_ = || format!("{} {} {} tol {tol:?}: {}", q.name(), v.name(), T::NAME, case_line(c));
             if !interval_contains(&iv, &d2) {
@@ -451,20 +452,93 @@ fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance, judge: Judge) -> Verdict {
             // correctly rounded: a certified answer is RN(D*) bit for bit (its interval may be
             // as wide as the stage that decided it left it)
             if tol.correctly_rounded {
-                let rn: T = crate::eval::rn(&d2);
-                if certified && o.d[0].to_bits_u64() != rn.to_bits_u64() {
-                    return Err(format!(
-                        "correctly rounded mode answered {:e}, RN(D*) is {:e}: {}",
-                        o.d[0].to_f64(),
-                        rn.to_f64(),
-                        where_()
-                    ));
+                if certified {
+                    rounded_bits(o.d[0], o.dist[0], &d2).map_err(|e| format!("{e}: {}", where_()))?;
                 }
                 continue;
             }
             if certified && q != Query::Penalty && w.is_finite() && w > allowed + narrowing + subnormal {
                 return Err(format!(
                     "certified with width {w:e} above the tolerance {allowed:e}: {}",
+                    where_()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A certified answer of the correctly rounded mode: its square `RN(D*)` and its distance
+/// `RN(sqrt(D*))`, bit for bit.
+fn rounded_bits<T: Float>(d: T, dist: T, d2: &rug::Rational) -> Verdict {
+    let (rn, rn_sqrt): (T, T) = (crate::eval::rn(d2), crate::eval::rn_sqrt(d2));
+    if d.to_bits_u64() != rn.to_bits_u64() || dist.to_bits_u64() != rn_sqrt.to_bits_u64() {
+        return Err(format!(
+            "correctly rounded mode answered {:e} (distance {:e}), RN(D*) is {:e} (RN(sqrt(D*)) {:e})",
+            d.to_f64(),
+            dist.to_f64(),
+            rn.to_f64(),
+            rn_sqrt.to_f64()
+        ));
+    }
+    Ok(())
+}
+
+/// The correctly rounded mode on its own ([`Tolerance::CORRECTLY_ROUNDED`]), on every variant
+/// whatever the judge: the interval contains the exact distance; a certified pair's square is
+/// `RN(D*)` and its distance `RN(sqrt(D*))` bit for bit (so the variants that certify it agree);
+/// the single query and a batch of one give the same bits; a pair flagged uncertified is
+/// counted undecided.
+pub fn rounded(data: &[u8], _judge: Judge) -> Verdict {
+    let Some((src, _)) = pair_source(data) else { return Ok(()) };
+    if let Some((c, _)) = src.build::<f32>() {
+        rounded_in(&c)?;
+    }
+    if let Some((c, _)) = src.build::<f64>() {
+        rounded_in(&c)?;
+    }
+    Ok(())
+}
+
+fn rounded_in<T: Float>(c: &Case<T>) -> Verdict {
+    let cases = std::slice::from_ref(c);
+    for &q in Query::ALL.iter().filter(|q| !q.is_verdict() && **q != Query::Within && !q.is_approximate()) {
+        let (a, b) = exact_prims(q, c);
+        let d2 = exact_d2(&a, &b);
+        for (v, e) in judged_variants::<T>(q, Judge::All) {
+            let e = e.tolerance(Tolerance::CORRECTLY_ROUNDED);
+            let where_ = || format!("{} {} {}: {}", q.name(), v.name(), T::NAME, case_line(c));
+            let o = crate::eval::run_with_distances(e, q, v, cases, None)
+                .map_err(|e| format!("{e}: {}", where_()))?;
+            if !interval_contains(&o.iv[0], &d2) {
+                return Err(format!("interval {:?} misses the exact distance: {}", o.iv[0], where_()));
+            }
+            if o.certified[0] == (o.counts.undecided == 1) {
+                return Err(format!(
+                    "certified {} but {} undecided: {}",
+                    o.certified[0],
+                    o.counts.undecided,
+                    where_()
+                ));
+            }
+            if o.certified[0] {
+                rounded_bits(o.d[0], o.dist[0], &d2).map_err(|e| format!("{e}: {}", where_()))?;
+            }
+            let (pa, pb) = crate::eval::prims(q, c);
+            let (ka, kb) = q.arity();
+            let one = e.single(q, &pa[..ka], &pb[..kb]).map_err(|e| format!("{e}: {}", where_()))?;
+            let same = one.certified == o.certified[0]
+                && one.closest.sqdist.to_bits_u64() == o.d[0].to_bits_u64()
+                && one.distance.to_bits_u64() == o.dist[0].to_bits_u64();
+            if !same {
+                return Err(format!(
+                    "the single query ({:e}, {:e}, certified {}) is not the batch's ({:e}, {:e}, {}): {}",
+                    one.closest.sqdist.to_f64(),
+                    one.distance.to_f64(),
+                    one.certified,
+                    o.d[0].to_f64(),
+                    o.dist[0].to_f64(),
+                    o.certified[0],
                     where_()
                 ));
             }

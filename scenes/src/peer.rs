@@ -388,6 +388,7 @@ pub fn answers<T: Peer>(lib: Lib, cases: &[Case<T>]) -> Output<T> {
     let n = cases.len();
     Output {
         d: d.iter().map(|&x| x * x).collect(),
+        dist: d,
         p: vec![[T::ZERO; 3]; n],
         q: vec![[T::ZERO; 3]; n],
         iv: vec![Interval { lo: T::ZERO, hi: T::INFINITY }; n],

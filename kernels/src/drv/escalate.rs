@@ -152,6 +152,7 @@ pub(crate) fn single<T: Real>(
             iters: Some(&mut it),
             verdict: Some(&mut v),
             cp: None,
+            dist: None,
         },
         counts: PathCounts::default(),
         widen: true,

@@ -14,6 +14,8 @@ pub(crate) const CHUNK: usize = 256;
 #[derive(Default)]
 pub(crate) struct Sink<'a, T> {
     pub d: Option<&'a mut [T]>,
+    /// Distances: the square root of `d` (the correctly rounded mode writes its own).
+    pub dist: Option<&'a mut [T]>,
     pub verdict: Option<&'a mut [Intersection]>,
     pub cp: Option<&'a mut [ClosestPoints<T>]>,
     pub p: Option<&'a mut [Point<T>]>,
@@ -38,6 +40,7 @@ impl<'a, T: Real> Sink<'a, T> {
     /// The outputs of pairs `..at` and `at..`.
     pub(crate) fn split_at(self, at: usize) -> (Sink<'a, T>, Sink<'a, T>) {
         let (d0, d1) = split(self.d, at);
+        let (e0, e1) = split(self.dist, at);
         let (v0, v1) = split(self.verdict, at);
         let (c0, c1) = split(self.cp, at);
         let (p0, p1) = split(self.p, at);
@@ -46,8 +49,8 @@ impl<'a, T: Real> Sink<'a, T> {
         let (t0, t1) = split(self.iters, at);
         let (o0, o1) = split(self.ok, at);
         (
-            Sink { d: d0, verdict: v0, cp: c0, p: p0, q: q0, iv: i0, iters: t0, ok: o0 },
-            Sink { d: d1, verdict: v1, cp: c1, p: p1, q: q1, iv: i1, iters: t1, ok: o1 },
+            Sink { d: d0, dist: e0, verdict: v0, cp: c0, p: p0, q: q0, iv: i0, iters: t0, ok: o0 },
+            Sink { d: d1, dist: e1, verdict: v1, cp: c1, p: p1, q: q1, iv: i1, iters: t1, ok: o1 },
         )
     }
 
@@ -55,6 +58,9 @@ impl<'a, T: Real> Sink<'a, T> {
     pub(crate) fn put(&mut self, i: usize, o: &Lane<T>) {
         if let Some(s) = self.d.as_deref_mut() {
             s[i] = o.d;
+        }
+        if let Some(s) = self.dist.as_deref_mut() {
+            s[i] = o.d.sqrt();
         }
         if let Some(s) = self.verdict.as_deref_mut() {
             s[i] = o.verdict();
@@ -213,11 +219,12 @@ pub(crate) struct Job<'a, T> {
 }
 
 impl<T> Sink<'_, T> {
-    /// Are squared distances the only output asked for (no verdicts, points, intervals,
-    /// iterations or acceptance)? Asked once per pass, not per group (seven tests).
+    /// Are squared distances the only output asked for (no distances, verdicts, points,
+    /// intervals, iterations or acceptance)? Asked once per pass, not per group (eight tests).
     #[inline(always)]
     pub(super) fn only_d(&self) -> bool {
-        self.verdict.is_none()
+        self.dist.is_none()
+            && self.verdict.is_none()
             && self.cp.is_none()
             && self.p.is_none()
             && self.q.is_none()

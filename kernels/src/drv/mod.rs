@@ -397,6 +397,7 @@ fn write<L: Lanes>(
     }
     let sink = &mut job.sink;
     each!(sink.d, l => buf[0][l]);
+    each!(sink.dist, l => buf[0][l].sqrt());
     each!(sink.cp, l => ClosestPoints { sqdist: buf[0][l], p: [buf[1][l], buf[2][l], buf[3][l]], q: [buf[4][l], buf[5][l], buf[6][l]] });
     each!(sink.p, l => [buf[1][l], buf[2][l], buf[3][l]]);
     each!(sink.q, l => [buf[4][l], buf[5][l], buf[6][l]]);

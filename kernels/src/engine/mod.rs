@@ -376,6 +376,7 @@ impl Engine {
         let s = &out.sink;
         let lens = [
             ("sqdist", s.d.as_ref().map(|x| x.len())),
+            ("distances", s.dist.as_ref().map(|x| x.len())),
             ("verdicts", s.verdict.as_ref().map(|x| x.len())),
             ("closest_points", s.cp.as_ref().map(|x| x.len())),
             ("p", s.p.as_ref().map(|x| x.len())),

@@ -135,7 +135,12 @@ impl<'a, T: Real, const K: usize> Prims<'a, T, K> {
 ///   method, an approximation, refuses the mode
 ///   ([`Error::Unsupported`](crate::Error::Unsupported)).
 ///
-/// The square root of `RN(D*)` is not always `RN(sqrt(D*))`: the mode rounds squares.
+/// * Distances ([`Outputs::distances`], [`Answer::distance`](crate::Answer::distance)) are
+///   `RN(sqrt(D*))`, decided on their own in the same way (both ends of the distance's
+///   interval round to one value, or the oracle's exact square root); the square root of
+///   `RN(D*)` is rounded twice and can be an ulp off it. A pair asked for both is certified
+///   when both are decided.
+/// * [`Engine::single`](crate::Engine::single) runs the mode as a batch of one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct Tolerance {
@@ -145,8 +150,8 @@ pub struct Tolerance {
     pub absolute: f64,
     /// Relative to the distance (times the certified lower bound).
     pub relative: f64,
-    /// Every squared distance correctly rounded ([`Tolerance::CORRECTLY_ROUNDED`]); the widths
-    /// above are then unused.
+    /// Every squared distance and distance correctly rounded
+    /// ([`Tolerance::CORRECTLY_ROUNDED`]); the widths above are then unused.
     pub correctly_rounded: bool,
 }
 
@@ -159,8 +164,8 @@ impl Tolerance {
     /// Nothing but exact answers are accepted (see the type docs).
     pub const EXACT: Tolerance =
         Tolerance { scaled: 0.0, absolute: 0.0, relative: 0.0, correctly_rounded: false };
-    /// Every squared distance is the exact one correctly rounded (see the type docs,
-    /// "Correctly rounded answers").
+    /// Every squared distance and distance is the exact one correctly rounded (see the type
+    /// docs, "Correctly rounded answers").
     pub const CORRECTLY_ROUNDED: Tolerance =
         Tolerance { scaled: 0.0, absolute: 0.0, relative: 0.0, correctly_rounded: true };
 
@@ -280,6 +285,20 @@ impl<'a, T: Real> Outputs<'a, T> {
     /// [`Error::NoSuchOutput`], as for every distance output).
     pub fn sqdist(mut self, out: &'a mut [T]) -> Self {
         self.sink.d = Some(out);
+        self
+    }
+    /// Distances (within-margin: `+inf` beyond the margin; not for
+    /// [`Query::Intersect`](crate::Query::Intersect), as every distance output).
+    ///
+    /// Under every tolerance but one, the square root of the squared distance (one more
+    /// rounding: within the square's measured error plus half an ulp of the distance). Under
+    /// [`Tolerance::CORRECTLY_ROUNDED`](crate::Tolerance::CORRECTLY_ROUNDED) it is
+    /// `RN(sqrt(D*))`, the exact distance rounded to nearest (ties to even) in the input's
+    /// precision, decided on its own: not the square root of the correctly rounded square,
+    /// which can differ from it by an ulp. A pair is certified in that mode when every rounded
+    /// output asked for (square and distance) is decided.
+    pub fn distances(mut self, out: &'a mut [T]) -> Self {
+        self.sink.dist = Some(out);
         self
     }
     /// Squared distances and closest points.

@@ -1,15 +1,18 @@
 //! Correctly rounded answers ([`Tolerance::CORRECTLY_ROUNDED`]): every returned squared
 //! distance is `RN(D*)`, the exact squared distance rounded to nearest (ties to even) in the
-//! input's precision, or the pair is reported undecided.
+//! input's precision, every returned distance `RN(sqrt(D*))`, or the pair is reported
+//! undecided.
 //!
 //! A block of pairs runs in f64 (f32 input exactly widened) at the default tolerance, which
 //! gives each pair a certified interval `[lo, hi]` of its distance. Rounding to nearest is
 //! monotonic, so when the ends of `[lo^2, hi^2]` (bounded outward) round to the same value of
 //! the input's precision, every square in between does, `D*` among them: that value is the
-//! answer ([`decide`]). The pairs this leaves undecided go to the exact oracle (feature
-//! `exact`), whose square is correctly rounded; without it they are answered with their f64
-//! answer rounded once and counted in [`PathCounts::undecided`] (and `uncertified`), never
-//! passed off as correctly rounded.
+//! answer ([`decide`]); likewise the distance when `lo` and `hi` round to one value
+//! ([`decide_distance`]). The distance is decided on its own: the square root of the rounded
+//! square is rounded twice and can be an ulp off. The pairs this leaves undecided go to the
+//! exact oracle (feature `exact`), whose square and distance are correctly rounded; without it
+//! they are answered with their f64 answer rounded once and counted in
+//! [`PathCounts::undecided`] (and `uncertified`), never passed off as correctly rounded.
 
 use super::{Engine, Tolerance};
 use crate::drv::{outward, post, Job, Lane, Sink, Src};
@@ -38,6 +41,30 @@ fn decide<T: Real>(lo: f64, hi: f64) -> Option<T> {
             (l == h).then(|| T::from_f64(l as f64))
         }
     }
+}
+
+/// The value of `T` that every distance in `[lo, hi]` rounds to (to nearest), when there is
+/// one: `lo <= hi` bound a distance (f64, non-negative, certified).
+fn decide_distance<T: Real>(lo: f64, hi: f64) -> Option<T> {
+    if !(lo >= 0.0 && lo <= hi) {
+        return None;
+    }
+    match T::PRECISION {
+        // every f64 in between is a candidate: only a point interval decides
+        Precision::F64 => (lo == hi).then(|| T::from_f64(lo)),
+        // f64 -> f32 conversion rounds to nearest, ties to even, and is monotonic
+        Precision::F32 => {
+            let (l, h) = (lo as f32, hi as f32);
+            (l == h).then(|| T::from_f64(l as f64))
+        }
+    }
+}
+
+/// One pair's answer in the mode: the lane (its square rounded) and its distance.
+#[derive(Clone, Copy)]
+struct Rounded<T> {
+    lane: Lane<T>,
+    dist: T,
 }
 
 /// The f64 answers of some pairs: squared distances, closest points (when asked for),
@@ -107,8 +134,8 @@ impl Engine {
                 }
                 open = still;
             }
-            for (i, lane) in open.drain(..) {
-                let lane = match exact_lane(self, &job, i) {
+            for (i, r) in open.drain(..) {
+                let r = match exact_lane(self, &job, i) {
                     Some(x) => {
                         counts.exact += 1;
                         x
@@ -116,10 +143,10 @@ impl Engine {
                     None => {
                         counts.undecided += 1;
                         counts.uncertified += 1;
-                        lane
+                        r
                     }
                 };
-                put(&mut job, i, lane);
+                put(&mut job, i, r);
             }
             start = end;
         }
@@ -159,21 +186,26 @@ impl Engine {
     }
 }
 
-/// Writes pair `i`'s answer (within-margin: `+inf` beyond the margin, on the rounded square).
-fn put<T: Real>(job: &mut Job<'_, T>, i: usize, lane: Lane<T>) {
-    let lane = post(job.query, job.prm.margin, lane);
+/// Writes pair `i`'s answer (within-margin: `+inf` beyond the margin, on the rounded square,
+/// for the distance too).
+fn put<T: Real>(job: &mut Job<'_, T>, i: usize, r: Rounded<T>) {
+    let lane = post(job.query, job.prm.margin, r.lane);
     job.sink.put(i, &lane);
+    if let Some(s) = job.sink.dist.as_deref_mut() {
+        s[i] = if lane.d == T::INFINITY && r.lane.d != T::INFINITY { T::INFINITY } else { r.dist };
+    }
 }
 
-/// Pair `i`'s answer from its f64 answer (number `m` of `r`): `Ok` with the decided square (or
-/// NaN for non-finite input), `Err` with the f64 answer rounded once when undecided.
+/// Pair `i`'s answer from its f64 answer (number `m` of `r`): `Ok` with the decided square
+/// and (when the job writes distances) distance, or NaN for non-finite input; `Err` with the
+/// f64 answer rounded once when undecided.
 fn rounded_lane<T: Real>(
     job: &Job<'_, T>,
     i: usize,
     r: &Answers64,
     m: usize,
     counts: &mut PathCounts,
-) -> Result<Lane<T>, Lane<T>> {
+) -> Result<Rounded<T>, Rounded<T>> {
     let (d, iv) = (r.d[m], r.iv[m]);
     let cv = |x: f64| T::from_f64(x);
     let (lo, hi) = outward::<T, f64>(iv);
@@ -181,12 +213,14 @@ fn rounded_lane<T: Real>(
     let (p, q) =
         (r.p.get(m).map_or([T::ZERO; 3], |x| x.map(cv)), r.q.get(m).map_or([T::ZERO; 3], |x| x.map(cv)));
     let lane = Lane { d: cv(d), p, q, lo, hi, ok: true, it: 0 };
+    let dist = cv(d.sqrt());
     if d.is_nan() {
         // non-finite input: NaN, as in every mode
-        return Ok(Lane { ok: false, ..lane });
+        return Ok(Rounded { lane: Lane { ok: false, ..lane }, dist });
     }
-    if let Some(v) = decide::<T>(iv.lo, iv.hi) {
-        return Ok(Lane { d: v, ..lane });
+    let distance = if job.sink.dist.is_some() { decide_distance::<T>(iv.lo, iv.hi) } else { Some(dist) };
+    if let (Some(v), Some(dist)) = (decide::<T>(iv.lo, iv.hi), distance) {
+        return Ok(Rounded { lane: Lane { d: v, ..lane }, dist });
     }
     // A contact: an interval from 0 decides nothing, a proof that the distance is 0 does: a
     // point the primitives share (mesh neighbours), or an edge crossing a triangle.
@@ -195,10 +229,10 @@ fn rounded_lane<T: Real>(
         let (ka, kb) = (job.a.k(), job.b.k());
         if a[..ka].iter().any(|p| b[..kb].contains(p)) || (ka == 3 && kb == 3 && crossing(&a, &b)) {
             counts.crossed += 1;
-            return Ok(Lane { d: T::ZERO, ..lane });
+            return Ok(Rounded { lane: Lane { d: T::ZERO, ..lane }, dist: T::ZERO });
         }
     }
-    Err(Lane { ok: false, ..lane })
+    Err(Rounded { lane: Lane { ok: false, ..lane }, dist })
 }
 
 /// Primitive `i` of `s` in f64 (exact; points beyond its arity repeat the first).
@@ -293,16 +327,17 @@ fn crossing(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> bool {
 
 /// The exact oracle's answer for pair `i` (feature `exact`, when the engine uses it).
 #[cfg(feature = "exact")]
-fn exact_lane<T: Real>(e: &Engine, job: &Job<'_, T>, i: usize) -> Option<Lane<T>> {
+fn exact_lane<T: Real>(e: &Engine, job: &Job<'_, T>, i: usize) -> Option<Rounded<T>> {
     if !e.uses_exact() {
         return None;
     }
     let x = crate::exact::answer(job.a.k(), &job.a.prim(i), job.b.k(), &job.b.prim(i))?;
-    Some(Lane { d: x.d, p: x.p, q: x.q, lo: x.lo, hi: x.hi, ok: true, it: 0 })
+    let lane = Lane { d: x.d, p: x.p, q: x.q, lo: x.lo, hi: x.hi, ok: true, it: 0 };
+    Some(Rounded { lane, dist: x.dist })
 }
 
 #[cfg(not(feature = "exact"))]
-fn exact_lane<T: Real>(_: &Engine, _: &Job<'_, T>, _: usize) -> Option<Lane<T>> {
+fn exact_lane<T: Real>(_: &Engine, _: &Job<'_, T>, _: usize) -> Option<Rounded<T>> {
     None
 }
 
