@@ -242,8 +242,21 @@ fn misuse_is_an_error_not_a_panic() {
         let mut iv = vec![Interval::default(); 5];
         let mut cp = vec![ClosestPoints::default(); 5];
         let (mut p5, mut q5) = (vec![[0.0; 3]; 5], vec![[0.0; 3]; 5]);
+        let mut dist = vec![0.0f32; 5];
+        assert!(matches!(
+            e.run(Query::TriTri, &a, &a, Outputs::new().sqdist(&mut out).distances(&mut dist[..3])),
+            Err(Error::LengthMismatch { what: "distances", expected: 5, found: 3 })
+        ));
+        // distances are the square roots of the squares (outside the correctly rounded mode)
+        let moved: Vec<_> =
+            ps_f32().repeat(5).iter().map(|t| t.map(|p| [p[0] + 3.0, p[1] * 0.5, p[2]])).collect();
+        let moved = TriangleBatch::from_slice(&moved);
+        e.run(Query::TriTri, &a, &moved, Outputs::new().sqdist(&mut out).distances(&mut dist)).unwrap();
+        assert!(out.iter().any(|&d2| d2 > 0.0));
+        assert!(out.iter().zip(&dist).all(|(d2, d)| d2.sqrt().to_bits() == d.to_bits()), "{out:?} {dist:?}");
         for (out, what) in [
             (Outputs::new().sqdist(&mut out), "sqdist"),
+            (Outputs::new().distances(&mut dist), "distances"),
             (Outputs::new().intervals(&mut iv), "intervals"),
             (Outputs::new().closest_points(&mut cp), "closest_points"),
             (Outputs::new().points(&mut p5, &mut q5), "p"),

@@ -102,7 +102,7 @@ fn sqrt_round_abs(a: &Rational, fmt: Format) -> f64 {
         return f64::INFINITY;
     }
     let qe = se.max(fmt.emin) - (fmt.p - 1);
-    let scaled = Rational::from(a * pow2_rational(-2 * qe));
+    let scaled = a * pow2_rational(-2 * qe);
     let (frac, floor) = scaled.fract_floor(Integer::new());
     let mut mi = floor.clone().sqrt();
     // sqrt(scaled) - mi against 1/2: scaled against mi^2 + mi + 1/4 (frac is its fraction)

@@ -235,7 +235,7 @@ fn square_roots_of_rationals_near_midpoints() {
     // beyond the largest finite value: the midpoint above MAX ties to 2^1024, infinity
     let top = q(f64::MAX) + q(2f64.powi(970));
     assert_eq!(round::sqrt_to_f64(&Rational::from(&top * &top)), Some(f64::INFINITY));
-    let big = Rational::from(q(f64::MAX) * q(f64::MAX));
+    let big = q(f64::MAX) * q(f64::MAX);
     assert_eq!(round::sqrt_to_f64(&big), Some(f64::MAX));
     assert_eq!(round::sqrt_to_f32(&big), Some(f32::INFINITY));
     // a third: sqrt(1/3) rounded, against the f64 value (the hardware's sqrt of RN(1/3) is
