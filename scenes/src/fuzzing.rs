@@ -16,9 +16,7 @@ use arbitrary::{Arbitrary, Unstructured};
 use tridist::{Interval, Isa, Point, Query, Tolerance, Triangle};
 
 use crate::bounds::violations_judged;
-use crate::eval::{
-    answer_in_interval, case_line, exact_d2, exact_prims, interval_contains, parse_case_line, truth, Variant,
-};
+use crate::eval::{answer_in_interval, case_line, interval_contains, parse_case_line, truth, Variant};
 use crate::families::{generate, ulp_step, Case, Family};
 use crate::float::Float;
 use crate::mesh::Mesh;
@@ -409,16 +407,31 @@ pub fn cert(data: &[u8], judge: Judge) -> Verdict {
     Ok(())
 }
 
+/// The oracle's answer for `q` on `c`, computed once per arity: queries on the same
+/// primitives (triangle distance, its brute force, the penalty method) share it. The oracle is
+/// nearly all of these targets' time.
+fn truth_by_arity<T: Float>(
+    q: Query,
+    c: &Case<T>,
+    memo: &mut Vec<((usize, usize), crate::eval::Truth)>,
+) -> crate::eval::Truth {
+    if let Some((_, t)) = memo.iter().find(|(k, _)| *k == q.arity()) {
+        return t.clone();
+    }
+    let t = truth(q, std::slice::from_ref(c)).swap_remove(0);
+    memo.push((q.arity(), t.clone()));
+    t
+}
+
 fn cert_in<T: Float>(c: &Case<T>, tol: Tolerance, judge: Judge) -> Verdict {
     let cases = std::slice::from_ref(c);
+    let mut memo = Vec::new();
     for &q in Query::ALL.iter().filter(|q| !q.is_verdict() && **q != Query::Within) {
         if tol.correctly_rounded && q.is_approximate() {
             // the penalty method refuses the mode (tested in kernels/tests/rounded.rs)
             continue;
         }
-        let (a, b) = exact_prims(q, c);
-        let d2 = exact_d2(&a, &b);
-        let s = crate::eval::truth(q, cases)[0].s;
+        let crate::eval::Truth { d2, s } = truth_by_arity(q, c, &mut memo);
         for (v, e) in judged_variants::<T>(q, judge) {
             let e = e.tolerance(tol);
             let o = crate::eval::run_with_distances(e, q, v, cases, None).map_err(|e| e.to_string())?;
@@ -502,9 +515,9 @@ pub fn rounded(data: &[u8], _judge: Judge) -> Verdict {
 
 fn rounded_in<T: Float>(c: &Case<T>) -> Verdict {
     let cases = std::slice::from_ref(c);
+    let mut memo = Vec::new();
     for &q in Query::ALL.iter().filter(|q| !q.is_verdict() && **q != Query::Within && !q.is_approximate()) {
-        let (a, b) = exact_prims(q, c);
-        let d2 = exact_d2(&a, &b);
+        let d2 = truth_by_arity(q, c, &mut memo).d2;
         for (v, e) in judged_variants::<T>(q, Judge::All) {
             let e = e.tolerance(Tolerance::CORRECTLY_ROUNDED);
             let where_ = || format!("{} {} {}: {}", q.name(), v.name(), T::NAME, case_line(c));
