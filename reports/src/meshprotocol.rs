@@ -1,7 +1,9 @@
 //! MESH.md's "TrueForm's protocol" section: mesh distance at random rigid placements of the
 //! second mesh (the protocol TrueForm publishes its mesh figures with), tridist beside every C++
 //! mesh peer built here (FCL, Coal, TrueForm in three tree configurations, TrueForm also on its
-//! default threads), per placement, in the same run.
+//! default threads), per placement, in the same run; the same contenders on the seed's
+//! trajectory and at near contact ("Every peer on the trajectory and at near contact"), and at
+//! scale.
 
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
@@ -9,7 +11,9 @@ use std::time::{Duration, Instant};
 use tridist::{Engine, Mesh, Pose, Real};
 use tridist_scenes::mesh::Mesh as SceneMesh;
 use tridist_scenes::mesh_peer::{trueform_threads, MeshLib, MeshPeer};
-use tridist_scenes::protocol::{ball_placements, ball_radius, carried_normalised, placed_magnitude};
+use tridist_scenes::protocol::{
+    ball_placements, ball_radius, carried_normalised, near_contact_pose, placed_magnitude, trajectory_pose,
+};
 
 use crate::meshreport::{bursts_of, mesh, ms, pose_in, ratio};
 use crate::report::Settings;
@@ -157,6 +161,54 @@ pub fn protocol_md(t: &mut String, s: &Settings, seed: u64) -> Result<String, St
         ));
     }
     Ok(format!(" TrueForm's protocol ({n} random placements, one thread): {}.", summary.join("; ")))
+}
+
+/// The near-contact gaps of [`peers_md`], as fractions of the scene's size (2: both meshes in
+/// [-1, 1]^3).
+const NEAR_FRACTIONS: [f64; 5] = [1e-1, 1e-2, 1e-3, 1e-4, 1e-5];
+
+/// Placements per gap in [`peers_md`].
+const PER_GAP: usize = 2;
+
+/// MESH.md's "Every peer on the trajectory and at near contact": the contenders of
+/// [`protocol_md`] on the trajectory tables' meshes and poses, and at near contact at gaps of
+/// [`NEAR_FRACTIONS`] of the scene's size; its README phrase.
+pub fn peers_md(t: &mut String, s: &Settings, seed: u64) -> Result<String, String> {
+    let (a, b) = (carried_normalised("armadillo.off")?, carried_normalised("fandisk_large.off")?);
+    let budget = s.budget / 2;
+    let _ = writeln!(
+        t,
+        "## Every peer on the trajectory and at near contact\n\nThe contenders of TrueForm's protocol below (tridist, FCL, Coal, TrueForm in three tree configurations, and on TBB's default threads), timed and judged as there, on the Armadillo ({} triangles) and the fandisk ({} triangles) of the tables above: the seed's trajectory ({} poses through each other), and near contact: the fandisk at a random orientation moved along a random direction until its distance to the armadillo is a fraction {} of the scene's size 2 (`protocol::near_contact_pose`), {PER_GAP} placements per gap. Times within {:.1} ms per placement in all, one thread.\n",
+        a.triangles.len(),
+        b.triangles.len(),
+        s.mesh_poses,
+        NEAR_FRACTIONS.map(|f| format!("{f:.0e}")).join(", "),
+        budget.as_secs_f64() * 1e3,
+    );
+    let trajectory: Vec<Pose<f64>> = (0..s.mesh_poses).map(|k| trajectory_pose(k, s.mesh_poses).1).collect();
+    let (a64, b64) = (mesh::<f64>(&a)?, mesh::<f64>(&b)?);
+    let mut near = Vec::new();
+    for (i, f) in NEAR_FRACTIONS.iter().enumerate() {
+        for k in 0..PER_GAP {
+            near.push(near_contact_pose(&a64, &b64, seed, (i * PER_GAP + k) as u64, 2.0 * f)?);
+        }
+    }
+    let mut summary = Vec::new();
+    for (what, poses) in [("the trajectory", &trajectory), ("near contact", &near)] {
+        let cols = measure(&a, &b, poses, budget, &MeshLib::ALL)?;
+        let _ = writeln!(
+            t,
+            "### {what} ({} placements)\n\n| library | median ms | mean ms | over tridist f64 (median) | worst | placements where it is faster | over tridist f32 (median) | worst | wrong distances | \\|Δd\\| of the rest | build ms |\n|---|---|---|---|---|---|---|---|---|---|---|",
+            poses.len()
+        );
+        let line = rows(t, &cols, poses);
+        let _ = writeln!(t);
+        summary.push(format!(
+            "{what}: {}",
+            if line.is_empty() { "no C++ peer built".to_string() } else { line.join(", ") }
+        ));
+    }
+    Ok(format!(" Every peer, time over tridist f64's, median (worst placement): {}.", summary.join("; ")))
 }
 
 /// The table rows of one pair's columns (the header is the caller's), and the README's phrase

@@ -850,7 +850,8 @@ pub fn mesh_md(s: &Settings, seed: u64) -> Result<(String, String), String> {
     let _ = writeln!(t, "Contacts on two threads: `Engine::threads(2)`, the traversal split into pieces walked in parallel and the contacts sorted in parallel (same contacts, same order); per pose, one and two threads measured alternately, three rounds, medians. The summary's figure at the pose with the most contacts is measured again in {SCALING_ROUNDS} rounds, each of one- and two-thread calls alternated call by call (at least 375 ms), then, as the machine's ceiling at that moment, two independent one-thread workers running the query at once for at least 250 ms (their combined speed over one thread's; this machine's two cores are shared, so that ceiling is below 2x when other work runs), medians.\n");
     let near = near_rows(&a, &b, s.budget, s.mesh_poses, seed)?;
     let near_summary = near_md(&mut t, &near);
-    let mut protocol_summary = crate::meshprotocol::protocol_md(&mut t, s, seed)?;
+    let mut protocol_summary = crate::meshprotocol::peers_md(&mut t, s, seed)?;
+    protocol_summary += &crate::meshprotocol::protocol_md(&mut t, s, seed)?;
     protocol_summary += &crate::meshprotocol::scale_md(&mut t, s, seed)?;
     shapes_sections(&mut t, &a, &b, s, &near.iter().map(|r| r.pose).collect::<Vec<_>>())?;
     let (m32, m64) = (means[0], means[1]);

@@ -541,38 +541,17 @@ fn a_small_report_writes_parseable_files() {
     let pairs: Vec<&str> = protocol.split("\n### ").skip(1).collect();
     assert_eq!(pairs.len(), 2, "{protocol}");
     for pair in pairs {
-        let rows: Vec<Vec<&str>> = pair
-            .lines()
-            .filter(|l| l.starts_with("| ") && !l.starts_with("| library"))
-            .map(|l| l.split(" | ").map(|c| c.trim_matches(['|', ' '])).collect())
-            .collect();
-        assert_eq!(rows.len(), 2 + tridist_scenes::mesh_peer::MeshLib::ALL.len() + 1, "{pair}");
-        let num =
-            |x: &str| x.trim_end_matches('x').parse::<f64>().unwrap_or_else(|_| panic!("{x:?} in {pair}"));
-        for r in &rows[..2] {
-            assert!(r[0].starts_with("tridist f") && num(r[1]) > 0.0 && num(r[2]) > 0.0, "{r:?}");
-        }
-        use tridist_scenes::mesh_peer::MeshLib;
-        let libs = MeshLib::ALL;
-        for (r, lib) in rows[2..].iter().zip(libs.iter().chain([&libs[2]])) {
-            assert!(r[0].starts_with(lib.name()), "{r:?} {lib:?}");
-            assert_eq!(!r[1].starts_with("not built"), lib.available(), "{r:?}");
-            if lib.available() {
-                let wrong: usize =
-                    r[8].strip_suffix(" of 12").unwrap_or_else(|| panic!("{r:?}")).parse().unwrap();
-                // the established peers agree everywhere (a pose passed transposed or a wrong
-                // distance of ours would show here); TrueForm's axis-aligned trees do not
-                if matches!(lib, MeshLib::Fcl | MeshLib::Coal | MeshLib::TrueFormObbrssF64) {
-                    assert_eq!(wrong, 0, "{r:?}: distances disagree");
-                }
-                if wrong < 12 {
-                    assert!(num(r[1]) > 0.0 && num(r[3]) > 0.0 && num(r[4]) <= num(r[3]), "{r:?}");
-                }
-                assert_eq!(r[5], format!("{} of {}", r[5].split(' ').next().unwrap(), 12 - wrong), "{r:?}");
-                let tol = if r[0].contains("float") { 1e-5 } else { 1e-9 };
-                assert!(num(r[9]) <= tol, "{r:?}: distances disagree");
-            }
-        }
+        peer_table(pair, 12);
+    }
+    // every peer on the trajectory (3 poses) and at near contact (5 gaps, 2 placements each)
+    let every = mesh.split("## Every peer on the trajectory").nth(1).expect("the every-peer section");
+    let every = every.split("\n## ").next().unwrap();
+    let tables: Vec<&str> = every.split("\n### ").skip(1).collect();
+    assert_eq!(tables.len(), 2, "{every}");
+    assert!(tables[0].starts_with("the trajectory (3 placements)"), "{}", tables[0]);
+    assert!(tables[1].starts_with("near contact (10 placements)"), "{}", tables[1]);
+    for table in tables {
+        peer_table(table, if table.starts_with("near") { 10 } else { 3 });
     }
     // the scale section: the Armadillo at 52,000 and 208,000 triangles per mesh (`--mesh-scale 1`), each
     // with tridist's two rows and built peers agreeing with it, every build timed
@@ -1082,4 +1061,41 @@ fn poses_files_are_written_and_timed() {
     assert_eq!(code, 2, "{err}");
     let (code, _, err) = tridist(&["poses", &a, &a, "--protocol", "spiral"], "");
     assert_eq!(code, 2, "{err}");
+}
+
+/// One table of the protocol sections of MESH.md (`n` placements): tridist in both precisions
+/// and a row per C++ mesh peer, measured exactly when that peer was built, its distances
+/// agreeing with tridist f64's (float within float's rounding of a [-1, 1]^3 scene).
+fn peer_table(table: &str, n: usize) {
+    use tridist_scenes::mesh_peer::MeshLib;
+    let rows: Vec<Vec<&str>> = table
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| library"))
+        .map(|l| l.split(" | ").map(|c| c.trim_matches(['|', ' '])).collect())
+        .collect();
+    assert_eq!(rows.len(), 2 + MeshLib::ALL.len() + 1, "{table}");
+    let num = |x: &str| x.trim_end_matches('x').parse::<f64>().unwrap_or_else(|_| panic!("{x:?} in {table}"));
+    for r in &rows[..2] {
+        assert!(r[0].starts_with("tridist f") && num(r[1]) > 0.0 && num(r[2]) > 0.0, "{r:?}");
+    }
+    let libs = MeshLib::ALL;
+    for (r, lib) in rows[2..].iter().zip(libs.iter().chain([&libs[2]])) {
+        assert!(r[0].starts_with(lib.name()), "{r:?} {lib:?}");
+        assert_eq!(!r[1].starts_with("not built"), lib.available(), "{r:?}");
+        if lib.available() {
+            let wrong: usize =
+                r[8].strip_suffix(&format!(" of {n}")).unwrap_or_else(|| panic!("{r:?}")).parse().unwrap();
+            // the established peers agree everywhere (a pose passed transposed or a wrong
+            // distance of ours would show here); TrueForm's axis-aligned trees do not
+            if matches!(lib, MeshLib::Fcl | MeshLib::Coal | MeshLib::TrueFormObbrssF64) {
+                assert_eq!(wrong, 0, "{r:?}: distances disagree");
+            }
+            if wrong < n {
+                assert!(num(r[1]) > 0.0 && num(r[3]) > 0.0 && num(r[4]) <= num(r[3]), "{r:?}");
+            }
+            assert_eq!(r[5], format!("{} of {}", r[5].split(' ').next().unwrap(), n - wrong), "{r:?}");
+            let tol = if r[0].contains("float") { 1e-5 } else { 1e-9 };
+            assert!(num(r[9]) <= tol, "{r:?}: distances disagree");
+        }
+    }
 }
