@@ -387,3 +387,23 @@ fn mesh_closest_point_is_the_correctly_rounded_minimum() {
         assert_eq!((u32_, u64_), (0, 0));
     }
 }
+
+/// A square beyond `T`'s range is `+inf`, its distance the exact one rounded (finite); within
+/// a finite margin such a pair is beyond it, `+inf` for both; a touching pair is 0 for both.
+#[test]
+fn overflowing_squares_have_finite_distances() {
+    let far: Triangle<f32> = [[1e20, 0.0, 0.0], [1e20, 1.0, 0.0], [1e20, 0.0, 1.0]];
+    let near: Triangle<f32> = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for e in engines() {
+        let (d, dist, ok, _) = run(&e, Query::TriTri, &[(near, far)]);
+        assert_eq!((d[0], dist[0], ok[0]), (f32::INFINITY, 1e20, true), "{:?}", e.isa());
+        let one = e.single(Query::TriTri, &near, &far).expect("a valid query");
+        assert_eq!((one.closest.sqdist, one.distance, one.certified), (f32::INFINITY, 1e20, true));
+        let (mut d, mut dist) = ([0.0f32], [0.0f32]);
+        let out = Outputs::new().sqdist(&mut d).distances(&mut dist);
+        e.margin(1e10).run(Query::Within, &[near][..], &[far][..], out).expect("a valid batch");
+        assert_eq!((d[0], dist[0]), (f32::INFINITY, f32::INFINITY), "{:?}", e.isa());
+        let (d, dist, ok, _) = run(&e, Query::TriTri, &[(near, near)]);
+        assert_eq!((d[0], dist[0], ok[0]), (0.0, 0.0, true), "{:?}", e.isa());
+    }
+}

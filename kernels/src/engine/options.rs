@@ -291,11 +291,12 @@ impl<'a, T: Real> Outputs<'a, T> {
     /// [`Query::Intersect`](crate::Query::Intersect), as every distance output).
     ///
     /// Under every tolerance but one, the square root of the squared distance (one more
-    /// rounding: within the square's measured error plus half an ulp of the distance). Under
+    /// rounding: within the square's measured error plus half an ulp of the distance; `+inf`
+    /// where the square overflows `T`, though the distance may not). Under
     /// [`Tolerance::CORRECTLY_ROUNDED`](crate::Tolerance::CORRECTLY_ROUNDED) it is
     /// `RN(sqrt(D*))`, the exact distance rounded to nearest (ties to even) in the input's
-    /// precision, decided on its own: not the square root of the correctly rounded square,
-    /// which can differ from it by an ulp. A pair is certified in that mode when every rounded
+    /// precision (finite where the square overflows), decided on its own: not the square root
+    /// of the correctly rounded square, which can differ from it by an ulp. A pair is certified in that mode when every rounded
     /// output asked for (square and distance) is decided.
     pub fn distances(mut self, out: &'a mut [T]) -> Self {
         self.sink.dist = Some(out);

@@ -192,7 +192,10 @@ fn put<T: Real>(job: &mut Job<'_, T>, i: usize, r: Rounded<T>) {
     let lane = post(job.query, job.prm.margin, r.lane);
     job.sink.put(i, &lane);
     if let Some(s) = job.sink.dist.as_deref_mut() {
-        s[i] = if lane.d == T::INFINITY && r.lane.d != T::INFINITY { T::INFINITY } else { r.dist };
+        // (`post`'s test: a square beyond `T`'s range is beyond a finite margin, though its
+        // distance is finite)
+        let beyond = job.query == Query::Within && r.lane.d > job.prm.margin * job.prm.margin;
+        s[i] = if beyond { T::INFINITY } else { r.dist };
     }
 }
 
