@@ -201,11 +201,12 @@ pub struct Output<T> {
 }
 
 impl<T: Float> Output<T> {
-    /// `n` pairs' worth of zeros (verdicts `Invalid`, no paths counted), to be written.
-    fn zeroed(n: usize) -> Self {
+    /// `n` pairs' worth of zeros (verdicts `Invalid`, no paths counted; distances NaN when
+    /// asked for, else none), to be written.
+    fn zeroed(n: usize, distances: bool) -> Self {
         Output {
             d: vec![T::ZERO; n],
-            dist: vec![T::NAN; n],
+            dist: vec![T::NAN; if distances { n } else { 0 }],
             p: vec![[T::ZERO; 3]; n],
             q: vec![[T::ZERO; 3]; n],
             iv: vec![Interval::default(); n],
@@ -293,7 +294,7 @@ fn run_asking<T: Float>(
     distances: bool,
 ) -> Result<Output<T>, tridist::Error> {
     if query == Query::Within {
-        let mut o = Output::zeroed(cases.len());
+        let mut o = Output::zeroed(cases.len(), distances);
         for (i, c) in cases.iter().enumerate() {
             let m = margins.map_or_else(|| default_margin(c), |m| m[i]);
             let one = run_pairs(e.margin(m.to_f64()), query, variant, std::slice::from_ref(c), distances)?;
@@ -308,9 +309,6 @@ fn run_asking<T: Float>(
             o.certified[i] = one.certified[0];
             o.counts.add(&one.counts);
         }
-        if !distances {
-            o.dist.clear();
-        }
         return Ok(o);
     }
     run_pairs(e, query, variant, cases, distances)
@@ -323,10 +321,7 @@ fn run_pairs<T: Float>(
     cases: &[Case<T>],
     distances: bool,
 ) -> Result<Output<T>, tridist::Error> {
-    let mut o = Output::zeroed(cases.len());
-    if !distances {
-        o.dist.clear();
-    }
+    let mut o = Output::zeroed(cases.len(), distances);
     let (pa, pb): (Vec<_>, Vec<_>) = cases.iter().map(|c| prims(query, c)).unzip();
     // a verdict query computes no distance: asking it for one is an error
     let out = if query.is_verdict() {
