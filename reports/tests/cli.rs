@@ -182,6 +182,18 @@ fn eval_check_intervals_and_oracle_exact() {
     let (code, _, err) = tridist(&["eval", "--exact"], PAIRS);
     assert_eq!(code, 3);
     assert!(err.contains("--kernel oracle"), "{err}");
+    // the fraction is the square's: not with --distances; a peer prints squares only
+    let (code, _, err) = tridist(&["eval", "--kernel", "oracle", "--exact", "--distances"], PAIRS);
+    assert!(code == 3 && err.contains("not with --distances"), "{err}");
+    let (code, _, err) = tridist(&["eval", "--peer", "parry3d", "--distances"], PAIRS);
+    assert!(code == 3 && err.contains("--distances"), "{err}");
+    // outside the correctly rounded mode the distance is the square root of the square
+    let (code, out, _) = tridist(&["eval", "--distances"], PAIRS);
+    assert_eq!(code, 0);
+    for l in out.lines() {
+        let v: Vec<f64> = l.split(' ').skip(1).map(|x| x.parse().unwrap()).collect();
+        assert!(v.len() == 2 && v[0].sqrt() == v[1], "{l}");
+    }
 }
 
 #[test]
