@@ -64,6 +64,9 @@ pub struct MeshArgs {
     /// protocols and `tridist poses` place them.
     #[arg(long)]
     pub normalise: bool,
+    /// Threads of the contact query (`Engine::threads`; the other queries run on one).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
+    pub threads: u32,
     /// With --poses: each time is the median of repeated calls within this many milliseconds.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=60_000), allow_negative_numbers = true)]
     pub budget_ms: u32,
@@ -179,7 +182,7 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
     if !a.variant.available() {
         return Err(Fail(format!("variant {} is not available on this CPU", a.variant.name())));
     }
-    let e = Engine::new(a.variant.isa())?;
+    let e = Engine::new(a.variant.isa())?.threads(a.threads as usize);
     let t0 = Instant::now();
     let shape = TreeShape { width: a.width, leaf: a.leaf };
     // the poses file is read first: a malformed one fails before the trees are built

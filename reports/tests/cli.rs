@@ -1047,6 +1047,17 @@ fn poses_files_are_written_and_timed() {
     let (code, got, err) =
         tridist(&["mesh", &a, &a, "--poses", file.to_str().unwrap(), "--margin", "2.5"], "");
     assert_eq!(code, 0, "{err}");
+    // the contacts on two threads are the same (their times differ)
+    let (code, two, err) = tridist(
+        &["mesh", &a, &a, "--poses", file.to_str().unwrap(), "--margin", "2.5", "--threads", "2"],
+        "",
+    );
+    assert_eq!(code, 0, "{err}");
+    let counts =
+        |t: &str| t.lines().skip(2).map(|l| l.split(' ').nth(7).map(String::from)).collect::<Vec<_>>();
+    assert_eq!(counts(&got), counts(&two), "{got}\n{two}");
+    let (code, _, err) = tridist(&["mesh", &a, &a, "--threads", "0"], "");
+    assert_eq!(code, 2, "{err}");
     let rows: Vec<&str> = got.lines().filter(|l| !l.starts_with("meshes:")).collect();
     assert!(rows[0].ends_with("contacts_within_2.5 contacts_ms"), "{got}");
     let labels: Vec<&str> = rows[1..].iter().map(|r| r.split(' ').next().unwrap()).collect();

@@ -3,7 +3,7 @@
 
 use super::bounds::reach;
 use super::scratch::{Pending, Side};
-use super::traverse::{check_finite, children, moved, root_visit, roots_apart, walk, Search, Visit};
+use super::traverse::{check_finite, moved, root_visit, roots_apart, split, walk, Search};
 use super::{Contact, Mesh, CONTACT_FLUSH, FLUSH};
 use crate::algo::nodes::Limit;
 use crate::engine::Outputs;
@@ -175,20 +175,8 @@ pub(super) fn contacts_threaded<T: Real>(
         return Ok(Vec::new());
     }
     let (mut sa, mut sb) = (Side::new(a, pa, ma, e.isa()), Side::new(b, pb, mb, e.isa()));
-    let want = 32 * e.thread_count();
-    let mut queue: std::collections::VecDeque<Visit> =
-        root_visit(e.isa(), &mut sa, &mut sb, &probe).into_iter().collect();
-    let (mut pieces, mut kids) = (Vec::new(), Vec::new());
-    while pieces.len() + queue.len() < want {
-        let Some(v @ (_, x, y, _)) = queue.pop_front() else { break };
-        if sa.mesh.nodes[x as usize].count > 0 && sb.mesh.nodes[y as usize].count > 0 {
-            pieces.push(v);
-        } else {
-            children(e.isa(), &mut sa, &mut sb, (x, y), &probe, &mut kids);
-            queue.extend(kids.drain(..).rev());
-        }
-    }
-    pieces.extend(queue);
+    let root = root_visit(e.isa(), &mut sa, &mut sb, &probe);
+    let pieces = split(e.isa(), &mut sa, &mut sb, root, &probe, 32 * e.thread_count());
     if pieces.is_empty() {
         // pruned at the root: no thread to wake
         return Ok(Vec::new());

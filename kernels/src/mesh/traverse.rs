@@ -352,6 +352,32 @@ pub(super) fn walk<T: Real, S: Search<T>>(
     Ok(())
 }
 
+/// The node pairs under the roots' pair `root`, split breadth first until there are at least
+/// `want` (where the trees allow): leaf pairs are kept whole, internal pairs are replaced by
+/// their children not pruned by `s`'s limit. Pieces for threads, each walked on its own.
+pub(super) fn split<T: Real>(
+    isa: crate::Isa,
+    sa: &mut Side<'_, T>,
+    sb: &mut Side<'_, T>,
+    root: Option<Visit>,
+    s: &impl Search<T>,
+    want: usize,
+) -> Vec<Visit> {
+    let mut queue: std::collections::VecDeque<Visit> = root.into_iter().collect();
+    let (mut pieces, mut kids) = (Vec::new(), Vec::new());
+    while pieces.len() + queue.len() < want {
+        let Some(v @ (_, x, y, _)) = queue.pop_front() else { break };
+        if sa.mesh.nodes[x as usize].count > 0 && sb.mesh.nodes[y as usize].count > 0 {
+            pieces.push(v);
+        } else {
+            children(isa, sa, sb, (x, y), s, &mut kids);
+            queue.extend(kids.drain(..).rev());
+        }
+    }
+    pieces.extend(queue);
+    pieces
+}
+
 /// [`walk`] from the roots of two meshes in their poses.
 pub(super) fn search<T: Real, S: Search<T>>(
     e: &Engine,
