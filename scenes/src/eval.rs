@@ -181,9 +181,9 @@ pub struct Output<T> {
     /// Squared distances (within-margin: `+inf` beyond the margin; intersection: 0 for
     /// intersecting, 1 for disjoint, NaN for invalid).
     pub d: Vec<T>,
-    /// Distances, when asked for ([`run_with_distances`]; empty otherwise): the square root of
-    /// `d`, except under the correctly rounded mode, where it is decided on its own
-    /// ([`tridist::Outputs::distances`]); verdict queries: NaN.
+    /// Distances, when asked for ([`run_with_distances`]; a peer's output carries its own;
+    /// empty otherwise): the square root of `d`, except under the correctly rounded mode,
+    /// where it is decided on its own ([`tridist::Outputs::distances`]); verdict queries: NaN.
     pub dist: Vec<T>,
     /// First closest points.
     pub p: Vec<Point<T>>,

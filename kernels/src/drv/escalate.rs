@@ -119,10 +119,16 @@ pub(crate) fn outward<T: Real, W: Real>(iv: Interval<W>) -> (T, T) {
 /// Query-specific post-processing of a full distance answer: within-margin keeps it only
 /// when within the margin (`+inf` beyond).
 pub(crate) fn post<T: Real>(query: Query, margin: T, mut lane: Lane<T>) -> Lane<T> {
-    if query == Query::Within && lane.d > margin * margin {
+    if beyond_margin(query, margin, lane.d) {
         lane.d = T::INFINITY;
     }
     lane
+}
+
+/// Is a full answer's squared distance `d` beyond within-margin's margin (`false` for the
+/// other queries)? A square beyond `T`'s range is beyond any finite margin.
+pub(crate) fn beyond_margin<T: Real>(query: Query, margin: T, d: T) -> bool {
+    query == Query::Within && d > margin * margin
 }
 
 /// One pair without a batch set-up (the single queries): a job of one pair on the portable

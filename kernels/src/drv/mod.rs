@@ -28,7 +28,7 @@ mod escalate;
 mod job;
 mod src;
 
-pub(crate) use escalate::{outward, post, single};
+pub(crate) use escalate::{beyond_margin, outward, post, single};
 pub(crate) use job::{Job, Lane, Pending, Sink, CHUNK};
 pub(crate) use src::Src;
 

@@ -15,7 +15,7 @@
 //! [`PathCounts::undecided`] (and `uncertified`), never passed off as correctly rounded.
 
 use super::{Engine, Tolerance};
-use crate::drv::{outward, post, Job, Lane, Sink, Src};
+use crate::drv::{beyond_margin, outward, post, Job, Lane, Sink, Src};
 use crate::query::Query;
 use crate::real::{Precision, Real};
 use crate::types::{Interval, PathCounts, Point};
@@ -192,10 +192,9 @@ fn put<T: Real>(job: &mut Job<'_, T>, i: usize, r: Rounded<T>) {
     let lane = post(job.query, job.prm.margin, r.lane);
     job.sink.put(i, &lane);
     if let Some(s) = job.sink.dist.as_deref_mut() {
-        // (`post`'s test: a square beyond `T`'s range is beyond a finite margin, though its
+        // (on the square: one beyond `T`'s range is beyond a finite margin, though its
         // distance is finite)
-        let beyond = job.query == Query::Within && r.lane.d > job.prm.margin * job.prm.margin;
-        s[i] = if beyond { T::INFINITY } else { r.dist };
+        s[i] = if beyond_margin(job.query, job.prm.margin, r.lane.d) { T::INFINITY } else { r.dist };
     }
 }
 
