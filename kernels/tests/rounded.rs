@@ -73,11 +73,6 @@ fn rn_of<T: Real>(d2: &rug::Rational) -> (T, T) {
     }
 }
 
-/// The oracle's `RN(D*)` of `query` on a pair, in `T`.
-fn rn<T: Real>(query: Query, a: &Triangle<T>, b: &Triangle<T>) -> T {
-    rn_of::<T>(&exact_d2(query, a, b)).0
-}
-
 /// Runs `query` on `ps` and returns (squares, distances, certified flags, undecided).
 fn run<T: Real>(
     e: &Engine,
@@ -158,7 +153,8 @@ fn judge<T: Real + std::fmt::Debug>(n: usize) -> u64 {
 
 /// Distances are decided on their own: on pairs whose correctly rounded distance is not the
 /// square root of the correctly rounded square (found by the oracle among point pairs), the
-/// batch and the single query return `RN(sqrt(D*))`, on every variant.
+/// batch, the single query and the mesh queries (one-point meshes) return `RN(sqrt(D*))`, on
+/// every variant.
 fn distances_round_once<T: Real + std::fmt::Debug>() -> (usize, usize) {
     let mut r = Rng(41);
     let (mut found, mut undecided) = (0, 0);
@@ -188,6 +184,24 @@ fn distances_round_once<T: Real + std::fmt::Debug>() -> (usize, usize) {
                 (bits(one.closest.sqdist), bits(one.distance)),
                 (bits(sq), bits(dist)),
                 "{:?} {x:?}",
+                e.isa()
+            );
+            // the mesh queries decide their distance on their own too: a one-point mesh at the
+            // origin, its closest point to x and its distance from a one-point mesh at x
+            let at = |p: [T; 3]| Mesh::new(vec![p], vec![[0, 0, 0]]).expect("a one-point mesh");
+            let (o, id) = (at([T::ZERO; 3]), Pose::<T>::identity());
+            let p = e.mesh_closest_point(&o, &id, x).expect("decided squares").expect("a point");
+            let m = e.mesh_distance(&at(x), &id, &o, &id).expect("decided squares").expect("a pair");
+            assert_eq!(
+                (bits(p.sqdist), bits(m.sqdist)),
+                (bits(sq), bits(sq)),
+                "{:?} {x:?}: mesh squares",
+                e.isa()
+            );
+            assert_eq!(
+                (p.distance.map(bits), m.distance.map(bits)),
+                (Some(bits(dist)), Some(bits(dist))),
+                "{:?} {x:?}: mesh distances",
                 e.isa()
             );
         }
@@ -269,9 +283,9 @@ fn octahedron<T: Real>(r: f64, c: [f64; 3]) -> Mesh<T> {
 /// Mesh distance in the mode: the oracle's correctly rounded minimum over every triangle
 /// pair of the moved meshes (brute force), or `Error::Undecided` (never without the oracle
 /// being absent); with the `exact` feature always the value.
-fn mesh_case<T: Real>() -> (usize, usize) {
+fn mesh_case<T: Real>() -> (usize, usize, usize) {
     let mut r = Rng(99);
-    let (mut same, mut undecided) = (0, 0);
+    let (mut same, mut undecided, mut undecided_distances) = (0, 0, 0);
     for i in 0..24 {
         let gap = [0.5, 1e-3, 1e-6, 0.0][i % 4];
         let a = octahedron::<T>(1.0, [0.0; 3]);
@@ -279,23 +293,25 @@ fn mesh_case<T: Real>() -> (usize, usize) {
         let pa = Pose::<T>::identity();
         let pb = Pose::from_axis_angle([T::from_f64(r.f()), T::ONE, T::from_f64(r.f())], r.f(), [T::ZERO; 3])
             .expect("a pose");
-        let mut want: Option<T> = None;
+        let mut want: Option<(T, T)> = None;
         for ia in 0..a.len() {
             for ib in 0..b.len() {
                 let (ta, tb) = (a.triangle_at(ia, &pa).unwrap(), b.triangle_at(ib, &pb).unwrap());
-                let d = rn(Query::TriTri, &ta, &tb);
-                want = Some(want.map_or(d, |w: T| if d < w { d } else { w }));
+                let (d, dist) = rn_of::<T>(&exact_d2(Query::TriTri, &ta, &tb));
+                let min = |x: T, y: T| if x < y { x } else { y };
+                want = Some(want.map_or((d, dist), |(w, wd)| (min(d, w), min(dist, wd))));
             }
         }
+        let (want, want_dist) = want.expect("two meshes of eight triangles");
         for e in engines() {
             match e.mesh_distance(&a, &pa, &b, &pb) {
                 Ok(Some(m)) => {
-                    assert_eq!(
-                        m.sqdist.to_f64().to_bits(),
-                        want.unwrap().to_f64().to_bits(),
-                        "case {i} {:?}",
-                        e.isa()
-                    );
+                    let bits = |x: T| x.to_f64().to_bits();
+                    assert_eq!(bits(m.sqdist), bits(want), "case {i} {:?}", e.isa());
+                    match m.distance {
+                        Some(d) => assert_eq!(bits(d), bits(want_dist), "case {i} {:?}: distance", e.isa()),
+                        None => undecided_distances += 1,
+                    }
                     same += 1;
                 }
                 Err(Error::Undecided) => undecided += 1,
@@ -303,18 +319,20 @@ fn mesh_case<T: Real>() -> (usize, usize) {
             }
         }
     }
-    (same, undecided)
+    (same, undecided, undecided_distances)
 }
 
 #[test]
 fn mesh_distance_is_the_correctly_rounded_minimum() {
-    let (s32, u32_) = mesh_case::<f32>();
-    let (s64, u64_) = mesh_case::<f64>();
-    println!("mesh distance: f32 {s32} exact, {u32_} undecided; f64 {s64} exact, {u64_} undecided");
+    let (s32, u32_, ud32) = mesh_case::<f32>();
+    let (s64, u64_, ud64) = mesh_case::<f64>();
+    println!(
+        "mesh distance: f32 {s32} exact ({ud32} without a distance), {u32_} undecided; f64 {s64} exact ({ud64} without a distance), {u64_} undecided"
+    );
     // f32 is decided in f64; f64 needs the oracle for the minimum's pair
-    assert!(s32 > 0 && u32_ == 0, "f32: {u32_} undecided");
+    assert!(s32 > 0 && u32_ == 0 && ud32 < s32, "f32: {u32_} undecided, {ud32} without a distance");
     if cfg!(feature = "exact") {
-        assert_eq!((u32_, u64_), (0, 0));
+        assert_eq!((u32_, u64_, ud32, ud64), (0, 0, 0, 0));
     }
 }
 
@@ -322,9 +340,9 @@ fn mesh_distance_is_the_correctly_rounded_minimum() {
 /// triangle of the moved mesh (brute force) and the first triangle that reaches it, or
 /// `Error::Undecided`; with the `exact` feature always the value. Points on, near, at
 /// vertices of and far from the mesh.
-fn mesh_point_case<T: Real>() -> (usize, usize) {
+fn mesh_point_case<T: Real>() -> (usize, usize, usize) {
     let mut r = Rng(7);
-    let (mut same, mut undecided) = (0, 0);
+    let (mut same, mut undecided, mut undecided_distances) = (0, 0, 0);
     let m = octahedron::<T>(1.0, [0.3, -0.2, 0.1]);
     let pose =
         Pose::from_axis_angle([T::ONE, T::from_f64(0.3), T::from_f64(-0.7)], 0.9, [T::from_f64(0.1); 3])
@@ -348,14 +366,16 @@ fn mesh_point_case<T: Real>() -> (usize, usize) {
             3 => [0; 3].map(|_| T::from_f64((r.f() - 0.5) * 1e4)),
             _ => [0; 3].map(|_| T::from_f64((r.f() - 0.5) * 4.0)),
         };
-        let mut want: Option<(T, usize)> = None;
+        let mut want: Option<(T, usize, T)> = None;
         for (k, t) in tris.iter().enumerate() {
-            let d = rn(Query::PointTri, &[x, x, x], t);
-            if want.is_none_or(|(w, _)| d < w) {
-                want = Some((d, k));
+            let (d, dist) = rn_of::<T>(&exact_d2(Query::PointTri, &[x, x, x], t));
+            if want.is_none_or(|(w, _, _)| d < w) {
+                want = Some((d, k, want.map_or(dist, |(_, _, wd)| if dist < wd { dist } else { wd })));
+            } else if let Some((_, _, wd)) = want.as_mut() {
+                *wd = if dist < *wd { dist } else { *wd };
             }
         }
-        let (want_d, want_tri) = want.expect("a mesh of eight triangles");
+        let (want_d, want_tri, want_dist) = want.expect("a mesh of eight triangles");
         for e in engines() {
             match e.mesh_closest_point(&m, &pose, x) {
                 Ok(Some(p)) => {
@@ -366,6 +386,15 @@ fn mesh_point_case<T: Real>() -> (usize, usize) {
                         e.isa()
                     );
                     assert_eq!(p.tri, want_tri, "case {i} {:?}: the first triangle at the minimum", e.isa());
+                    match p.distance {
+                        Some(d) => assert_eq!(
+                            d.to_f64().to_bits(),
+                            want_dist.to_f64().to_bits(),
+                            "case {i} {:?}: distance",
+                            e.isa()
+                        ),
+                        None => undecided_distances += 1,
+                    }
                     same += 1;
                 }
                 Err(Error::Undecided) => undecided += 1,
@@ -373,18 +402,20 @@ fn mesh_point_case<T: Real>() -> (usize, usize) {
             }
         }
     }
-    (same, undecided)
+    (same, undecided, undecided_distances)
 }
 
 #[test]
 fn mesh_closest_point_is_the_correctly_rounded_minimum() {
-    let (s32, u32_) = mesh_point_case::<f32>();
-    let (s64, u64_) = mesh_point_case::<f64>();
-    println!("mesh closest point: f32 {s32} exact, {u32_} undecided; f64 {s64} exact, {u64_} undecided");
+    let (s32, u32_, ud32) = mesh_point_case::<f32>();
+    let (s64, u64_, ud64) = mesh_point_case::<f64>();
+    println!(
+        "mesh closest point: f32 {s32} exact ({ud32} without a distance), {u32_} undecided; f64 {s64} exact ({ud64} without a distance), {u64_} undecided"
+    );
     // f32 is decided in f64 but for points on the mesh, where D* = 0 exactly may need the oracle
-    assert!(s32 > 0, "f32: nothing decided");
+    assert!(s32 > 0 && ud32 < s32, "f32: nothing decided");
     if cfg!(feature = "exact") {
-        assert_eq!((u32_, u64_), (0, 0));
+        assert_eq!((u32_, u64_, ud32, ud64), (0, 0, 0, 0));
     }
 }
 

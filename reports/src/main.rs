@@ -304,7 +304,7 @@ fn non_negative(s: &str) -> Result<f64, String> {
         .ok_or_else(|| "needs a finite number >= 0".into())
 }
 
-fn parse_tolerance(s: &str) -> Result<Tolerance, String> {
+pub(crate) fn parse_tolerance(s: &str) -> Result<Tolerance, String> {
     match s {
         "default" => return Ok(Tolerance::DEFAULT),
         "exact" => return Ok(Tolerance::EXACT),

@@ -64,6 +64,14 @@ pub struct MeshArgs {
     /// protocols and `tridist poses` place them.
     #[arg(long)]
     pub normalise: bool,
+    /// Tolerance of the queries, as `tridist eval` takes it: `default` (64 u S), `exact`, `K`
+    /// or `scaled:K` (K u S), `abs:X`, `rel:R`, or `correctly-rounded` (the distance and the
+    /// closest point's distance are the exact minimum's, correctly rounded in the working
+    /// precision: squared distance and distance each `RN`; a distance that needs the exact
+    /// oracle prints as `undecided`, a square that does fails as the library's
+    /// `Error::Undecided`).
+    #[arg(long, default_value = "default", value_parser = crate::parse_tolerance, allow_hyphen_values = true)]
+    pub tolerance: tridist::Tolerance,
     /// Threads of the contact query (`Engine::threads`; the other queries run on one).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=256), allow_negative_numbers = true)]
     pub threads: u32,
@@ -156,6 +164,17 @@ fn distance<T: Real>(sqdist: T, p: [T; 3], q: [T; 3]) -> f64 {
     2.0 * m * half.iter().map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
 }
 
+/// How an answer's distance prints: under the correctly rounded mode the library's own
+/// (`undecided` where it needs the exact oracle), otherwise [`distance`] of its square and
+/// points.
+fn shown<T: Real>(e: &Engine, own: Option<T>, sqdist: T, p: [T; 3], q: [T; 3]) -> String {
+    if e.current_tolerance().correctly_rounded {
+        own.map_or("undecided (needs the exact oracle: feature `exact`)".into(), |d| num(d.to_f64()))
+    } else {
+        num(distance(sqdist, p, q))
+    }
+}
+
 /// How a squared distance prints: its value, or that it overflowed.
 fn squared<T: Real>(sqdist: T) -> String {
     let s = sqdist.to_f64();
@@ -182,7 +201,7 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
     if !a.variant.available() {
         return Err(Fail(format!("variant {} is not available on this CPU", a.variant.name())));
     }
-    let e = Engine::new(a.variant.isa())?.threads(a.threads as usize);
+    let e = Engine::new(a.variant.isa())?.threads(a.threads as usize).tolerance(a.tolerance);
     let t0 = Instant::now();
     let shape = TreeShape { width: a.width, leaf: a.leaf };
     // the poses file is read first: a malformed one fails before the trees are built
@@ -222,7 +241,7 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
     let t0 = Instant::now();
     match e.mesh_distance(&ma, &pa, &mb, &pb)? {
         Some(d) => {
-            outln!("distance: {} (squared {})", num(distance(d.sqdist, d.p, d.q)), squared(d.sqdist));
+            outln!("distance: {} (squared {})", shown(&e, d.distance, d.sqdist, d.p, d.q), squared(d.sqdist));
             outln!("closest points: {} | {}", fmt3(d.p), fmt3(d.q));
             outln!("triangle pair: {} {}", d.tri_a, d.tri_b);
         }
@@ -262,7 +281,7 @@ fn run<T: Real>(a: &MeshArgs) -> Result<ExitCode, Fail> {
             Some(p) => outln!(
                 "closest point of the second mesh: {} at {} (triangle {})",
                 fmt3(p.point),
-                num(distance(p.sqdist, x.map(T::from_f64), p.point)),
+                shown(&e, p.distance, p.sqdist, x.map(T::from_f64), p.point),
                 p.tri
             ),
             None => outln!("closest point: none (the second mesh is empty)"),

@@ -178,6 +178,12 @@ pub fn timed<T: Real>(
         let t_i = median_time(|| hit = e.mesh_intersect(ma, pa, mb, &pb), budget);
         let hit = if hit?.is_some() { "yes" } else { "no" };
         let (dist, ta, tb) = match d {
+            // under the correctly rounded mode the library's own distance (or `undecided`)
+            Some(r) if e.current_tolerance().correctly_rounded => (
+                r.distance.map_or("undecided".into(), |d| format!("{}", d.to_f64())),
+                r.tri_a.to_string(),
+                r.tri_b.to_string(),
+            ),
             Some(r) => (format!("{}", r.sqdist.to_f64().sqrt()), r.tri_a.to_string(), r.tri_b.to_string()),
             None => ("inf".into(), "-".into(), "-".into()),
         };

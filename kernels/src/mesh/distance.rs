@@ -172,6 +172,7 @@ impl<T: Real> Search<T> for Nearest<T> {
                 self.best_d = d;
                 self.best = Some(MeshDistance {
                     sqdist: cp.sqdist,
+                    distance: Some(cp.sqdist.sqrt()),
                     p: cp.p,
                     q: cp.q,
                     tri_a: i as usize,

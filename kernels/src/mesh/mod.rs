@@ -231,6 +231,13 @@ struct Bin {
 pub struct MeshDistance<T> {
     /// Squared distance.
     pub sqdist: T,
+    /// The distance: `Some(sqdist.sqrt())` (one more rounding; `+inf` where the square
+    /// overflows), except under [`Tolerance::CORRECTLY_ROUNDED`](crate::Tolerance::CORRECTLY_ROUNDED),
+    /// where it is the smallest exact distance over all triangle pairs correctly rounded,
+    /// `RN(sqrt(D*))`, decided on its own (not the root of the rounded square, which can be an
+    /// ulp off), or `None` when it could not be decided without the exact oracle (feature
+    /// `exact`): the square is then still correctly rounded.
+    pub distance: Option<T>,
     /// Closest point on the first mesh (moved).
     pub p: Point<T>,
     /// Closest point on the second mesh (moved).
@@ -261,6 +268,10 @@ pub struct Contact<T> {
 pub struct MeshPoint<T> {
     /// Squared distance.
     pub sqdist: T,
+    /// The distance, as [`MeshDistance::distance`] gives it: `Some(sqdist.sqrt())`, or under
+    /// [`Tolerance::CORRECTLY_ROUNDED`](crate::Tolerance::CORRECTLY_ROUNDED) the exact
+    /// minimum's correctly rounded, `None` when that is undecided.
+    pub distance: Option<T>,
     /// The closest point (moved).
     pub point: Point<T>,
     /// The triangle that holds it.

@@ -51,8 +51,12 @@ impl Engine {
     /// distance over all triangle pairs of the moved meshes ([`Mesh::triangle_at`]), rounded to
     /// nearest in `T`, and the pair named is the first in triangle order whose correctly rounded
     /// square is that value: every pair whose exact distance can be the minimum is answered by
-    /// the correctly rounded triangle query. It costs a contact query around the minimum after
-    /// the distance search. The decisions of the other mesh queries run under it as under
+    /// the correctly rounded triangle query. `distance` is the smallest exact distance
+    /// correctly rounded, `RN(sqrt(D*))`, decided on its own from the candidates that may hold
+    /// the minimum (it can belong to another pair whose square rounds alike), or `None` when
+    /// one of them is undecided without the oracle: f64 meshes need the `exact` feature for
+    /// it, as the triangle queries' distances do. It costs a contact query around the minimum
+    /// after the distance search. The decisions of the other mesh queries run under it as under
     /// [`crate::Tolerance::EXACT`].
     pub fn mesh_distance<T: Real>(
         &self,
@@ -76,7 +80,9 @@ impl Engine {
     /// plus twice the default tolerance's width (`2 x 64 u S`, so every pair whose exact distance
     /// can be the minimum) is answered by the correctly rounded triangle query, and the minimum
     /// of their rounded squares is the rounded minimum (rounding is monotonic). The pair
-    /// reported is the first in triangle order whose rounded square is that minimum.
+    /// reported is the first in triangle order whose rounded square is that minimum. The
+    /// distance likewise: the candidates whose intervals reach the minimum's pair's are asked
+    /// for their correctly rounded distances, and the smallest is the minimum's.
     fn mesh_distance_rounded<T: Real>(
         &self,
         a: &Mesh<T>,
@@ -124,8 +130,26 @@ impl Engine {
         }
         // (`near` holds the default search's pair, so it is never empty)
         let k = rounded_minimum(&cp, &ok, &iv, &near)?;
-        let d = cp[k].sqdist;
-        Ok(Some(MeshDistance { sqdist: d, p: cp[k].p, q: cp[k].q, tri_a: near[k].0, tri_b: near[k].1 }))
+        // the distance, decided on its own over the candidates that may reach the minimum
+        let at = reaching(&iv, k);
+        let (da, db): (Vec<_>, Vec<_>) = at.iter().map(|&j| (ta[j], tb[j])).unzip();
+        let mut dist = vec![T::ZERO; at.len()];
+        let mut dok = vec![false; at.len()];
+        let mut div = vec![crate::Interval::default(); at.len()];
+        self.run(
+            crate::Query::TriTri,
+            &da[..],
+            &db[..],
+            crate::Outputs::new().distances(&mut dist).certified(&mut dok).intervals(&mut div),
+        )?;
+        Ok(Some(MeshDistance {
+            sqdist: cp[k].sqdist,
+            distance: rounded_min_distance(&dist, &dok, &div),
+            p: cp[k].p,
+            q: cp[k].q,
+            tri_a: near[k].0,
+            tri_b: near[k].1,
+        }))
     }
 
     /// Every triangle pair of two meshes in their poses whose distance is at most `margin`
@@ -246,7 +270,8 @@ impl Engine {
     /// rounded square is that value; the point is that triangle's closest point as the
     /// correctly rounded point-triangle query returns it. Every triangle whose exact distance
     /// can be the minimum (within the default search's answer plus twice the default
-    /// tolerance's width) is answered by that query.
+    /// tolerance's width) is answered by that query. `distance` is the minimum's exact
+    /// distance correctly rounded, or `None`, as [`Engine::mesh_distance`] decides it.
     ///
     /// # Errors
     /// The engine's setting errors ([`Engine::check`]), [`Error::InvalidPose`],
@@ -290,7 +315,12 @@ impl Engine {
                 let d = rank(cp);
                 if best.is_none_or(|b| d < *best_d || (d == *best_d && (i as usize) < b.tri)) {
                     *best_d = d;
-                    *best = Some(MeshPoint { sqdist: cp.sqdist, point: cp.q, tri: i as usize });
+                    *best = Some(MeshPoint {
+                        sqdist: cp.sqdist,
+                        distance: Some(cp.sqdist.sqrt()),
+                        point: cp.q,
+                        tri: i as usize,
+                    });
                 }
             }
             ids.clear();
@@ -390,8 +420,24 @@ impl Engine {
         }
         // (`ids` holds the default search's triangle, so it is never empty)
         let k = rounded_minimum(&cp, &ok, &iv, &ids)?;
-        let d = cp[k].sqdist;
-        Ok(Some(MeshPoint { sqdist: d, point: cp[k].q, tri: ids[k] }))
+        // the distance, decided on its own over the candidates that may reach the minimum
+        let at = reaching(&iv, k);
+        let dt: Vec<Triangle<T>> = at.iter().map(|&j| tris[j]).collect();
+        let mut dist = vec![T::ZERO; at.len()];
+        let mut dok = vec![false; at.len()];
+        let mut div = vec![crate::Interval::default(); at.len()];
+        self.run(
+            crate::Query::PointTri,
+            &[x],
+            &dt[..],
+            crate::Outputs::new().distances(&mut dist).certified(&mut dok).intervals(&mut div),
+        )?;
+        Ok(Some(MeshPoint {
+            sqdist: cp[k].sqdist,
+            distance: rounded_min_distance(&dist, &dok, &div),
+            point: cp[k].q,
+            tri: ids[k],
+        }))
     }
 }
 
@@ -418,4 +464,22 @@ fn rounded_minimum<T: Real, K: Ord>(
         return Err(Error::Undecided);
     }
     Ok(k)
+}
+
+/// The candidates whose exact distance may be the minimum's: every one whose interval starts
+/// at or below the end of the interval of `k` (a decided candidate, so its exact distance is
+/// at most that end, and the minimum's too).
+pub(super) fn reaching<T: Real>(iv: &[crate::Interval<T>], k: usize) -> Vec<usize> {
+    let hi = iv[k].hi.to_f64();
+    (0..iv.len()).filter(|&j| iv[j].lo.to_f64() <= hi).collect()
+}
+
+/// `RN(sqrt(min D*))` over candidates holding the minimum, from their correctly rounded
+/// distances (`dist`, decided where `ok`, `iv` their intervals): rounding and the square root
+/// are monotonic, so it is the smallest decided distance, unless an undecided candidate may
+/// round to it or below (then `None`).
+pub(super) fn rounded_min_distance<T: Real>(dist: &[T], ok: &[bool], iv: &[crate::Interval<T>]) -> Option<T> {
+    let m = (0..dist.len()).filter(|&j| ok[j]).map(|j| dist[j]).reduce(|m, d| if d < m { d } else { m })?;
+    let at_most = m.to_f64() * (1.0 + 4.0 * T::UNIT_ROUNDOFF.to_f64());
+    (0..dist.len()).all(|j| ok[j] || iv[j].lo.to_f64() > at_most).then_some(m)
 }

@@ -886,3 +886,25 @@ fn the_readme_states_the_distance_search_constants() {
         assert!(readme.contains(&want), "the README does not say {want:?}");
     }
 }
+
+/// The correctly rounded mesh distance's last step: the smallest decided distance among the
+/// candidates that reach the minimum's pair, unless an undecided one may round to it or below.
+#[test]
+fn the_rounded_minimum_distance_waits_for_undecided_candidates() {
+    use super::queries::{reaching, rounded_min_distance};
+    use crate::Interval;
+    let iv = |lo: f32, hi: f32| Interval { lo, hi };
+    // the candidates reaching the decided pair 1 ([2, 2]): those starting at or below 2
+    let ivs = [iv(0.9, 1.1), iv(2.0, 2.0), iv(2.0000002, 3.0), iv(2.5, 3.0)];
+    assert_eq!(reaching(&ivs, 1), vec![0, 1]);
+    assert_eq!(reaching(&ivs, 0), vec![0]);
+    // an undecided candidate below the smallest decided one: undecided
+    assert_eq!(rounded_min_distance(&[1.0f32, 2.0], &[false, true], &ivs[..2]), None);
+    // an undecided candidate within rounding of it: undecided (it may round to 2 or below)
+    assert_eq!(rounded_min_distance(&[2.0f32, 2.0], &[true, false], &[iv(2.0, 2.0), ivs[2]]), None);
+    // an undecided candidate beyond it: the smallest decided one
+    assert_eq!(rounded_min_distance(&[2.0f32, 3.0], &[true, false], &[iv(2.0, 2.0), ivs[3]]), Some(2.0));
+    assert_eq!(rounded_min_distance(&[1.0f32, 2.0], &[true, true], &ivs[..2]), Some(1.0));
+    // nothing decided: undecided
+    assert_eq!(rounded_min_distance::<f32>(&[1.0], &[false], &ivs[..1]), None);
+}
