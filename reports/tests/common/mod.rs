@@ -41,3 +41,32 @@ fn tridist_env(args: &[&str], stdin: &str, isa: Option<Option<&str>>) -> (i32, S
         String::from_utf8_lossy(&out.stderr).into(),
     )
 }
+
+/// A fresh directory for test files, per process and `name`.
+#[allow(dead_code)] // (each test binary compiles this module; not all use this)
+pub fn tmp(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("tridist-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The tetrahedron of the corner (0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1) as an OFF file in
+/// [`tmp`]`(name)`; its path.
+#[allow(dead_code)] // (each test binary compiles this module; not all use this)
+pub fn tetrahedron(name: &str) -> String {
+    let a = tmp(name).join("a.off");
+    let tet = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 0 2 3\n3 1 2 3\n";
+    std::fs::write(&a, tet).unwrap();
+    a.to_str().unwrap().to_string()
+}
+
+/// The number after `prefix` on the line that starts with it.
+#[allow(dead_code)] // (each test binary compiles this module; not all use this)
+pub fn number_after(out: &str, prefix: &str) -> f64 {
+    out.lines()
+        .find_map(|l| l.strip_prefix(prefix))
+        .and_then(|l| l.split_whitespace().next())
+        .unwrap_or_else(|| panic!("no line {prefix:?} in {out}"))
+        .parse()
+        .unwrap_or_else(|e| panic!("{prefix:?}: {e} in {out}"))
+}
