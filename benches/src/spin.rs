@@ -8,7 +8,7 @@ use tridist::{Engine, Intersection, Isa, Query};
 use tridist_scenes::workload::Workload;
 use tridist_scenes::{families, Family};
 
-const USAGE: &str = "usage: spin <query> <family|arm_nearby> f32|f64 <variant|fcl> <secs> [pairs [threads [sqdist|points [quick|full]]]]
+const USAGE: &str = "usage: spin <query> <family|arm_nearby> f32|f64 <variant|fcl> <secs> [pairs [threads [sqdist|points [quick|full [default|correctly-rounded]]]]]
        spin mesh contacts|distance|intersect|within|build <pose 0-11 | near placement n0-n11> f32|f64 <threads> <secs> [leaf size]";
 
 /// Bad arguments: the reason and the usage on stderr, exit status 2.
@@ -29,8 +29,8 @@ fn main() {
             _ => usage("the precision is f32 or f64"),
         };
     }
-    if !(5..=9).contains(&a.len()) {
-        usage("a batch query takes 5 to 9 arguments");
+    if !(5..=10).contains(&a.len()) {
+        usage("a batch query takes 5 to 10 arguments");
     }
     let q = Query::parse(&a[0]).unwrap_or_else(|| usage("unknown query"));
     let arm = || tridist_scenes::mesh::carried("armadillo.off").expect("armadillo");
@@ -65,6 +65,12 @@ fn main() {
         Some("full") => false,
         Some(_) => usage("the stages are quick or full"),
     };
+    // optional: the tolerance, the default or the correctly rounded mode
+    let tol = match a.get(9).map(String::as_str) {
+        None | Some("default") => tridist::Tolerance::DEFAULT,
+        Some("correctly-rounded") => tridist::Tolerance::CORRECTLY_ROUNDED,
+        Some(_) => usage("the tolerance is default or correctly-rounded"),
+    };
     if a[2] != "f32" && a[2] != "f64" {
         usage("the precision is f32 or f64");
     }
@@ -78,7 +84,8 @@ fn main() {
     let e = Engine::new(isa)
         .unwrap_or_else(|_| usage("variant not available on this CPU"))
         .threads(threads)
-        .quick_stage(quick);
+        .quick_stage(quick)
+        .tolerance(tol);
     let t = std::time::Instant::now();
     let mut n = 0usize;
     macro_rules! go {

@@ -438,3 +438,55 @@ fn overflowing_squares_have_finite_distances() {
         assert_eq!((d[0], dist[0], ok[0]), (0.0, 0.0, true), "{:?}", e.isa());
     }
 }
+
+/// Triangle pairs that share an input vertex are answered by the pipeline itself with the
+/// exact interval `[0, 0]` (what decides mesh neighbours in the mode without a proof per pair),
+/// on every variant and in both precisions; and only those: two vertices 1 apart, 1e17 from
+/// the local frame's origin, which the frame rounds to one point, keep an interval that holds
+/// their distance 1, and the mode does not certify 0 for them.
+#[test]
+fn only_a_vertex_shared_in_the_input_gives_an_exact_zero() {
+    use tridist::Interval;
+    fn intervals<T: Real>(e: Engine, pairs: &[(Triangle<T>, Triangle<T>)]) -> Vec<Interval<T>> {
+        let a: Vec<Triangle<T>> = pairs.iter().map(|p| p.0).collect();
+        let b: Vec<Triangle<T>> = pairs.iter().map(|p| p.1).collect();
+        let (mut d, mut iv) = (vec![T::ZERO; a.len()], vec![Interval::default(); a.len()]);
+        e.run(Query::TriTri, &a, &b, Outputs::new().sqdist(&mut d).intervals(&mut iv))
+            .expect("a valid batch");
+        for (x, i) in d.iter().zip(&iv) {
+            assert!(i.lo * i.lo <= *x && *x <= i.hi * i.hi || i.lo == i.hi, "{x:?} outside {i:?}");
+        }
+        iv
+    }
+    fn shared<T: Real>() -> Vec<(Triangle<T>, Triangle<T>)> {
+        let mut r = Rng(5);
+        (0..64)
+            .map(|i| {
+                let mut tri = || [0; 3].map(|_| [0; 3].map(|_| T::from_f64(r.f() * 2.0 - 1.0)));
+                let (a, mut b) = (tri(), tri());
+                b[i % 3] = a[(i / 3) % 3];
+                (a, b)
+            })
+            .collect()
+    }
+    let mut checked = 0;
+    for isa in Isa::ALL {
+        let Ok(e) = Engine::new(isa) else { continue };
+        for iv in intervals(e, &shared::<f32>()) {
+            assert_eq!((iv.lo, iv.hi), (0.0, 0.0), "{isa:?} f32");
+        }
+        for iv in intervals(e, &shared::<f64>()) {
+            assert_eq!((iv.lo, iv.hi), (0.0, 0.0), "{isa:?} f64");
+        }
+        // a's vertex (0, 0, 0) and b's (-1, 0, 0), 1 apart, both 1e17 - 0 and 1e17 + 1 from
+        // a's first vertex: the same local point (f64's spacing there is 16)
+        let a = [[1e17, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let b = [[-1.0, 0.0, 0.0], [-1.0, 0.0, 1.0], [-1.0, 1.0, 0.0]];
+        let iv = intervals(e, &[(a, b)])[0];
+        assert!(iv.lo <= 1.0 && 1.0 <= iv.hi, "{isa:?}: {iv:?} misses the distance 1");
+        let (d, _, ok, _) = run(&e.tolerance(Tolerance::CORRECTLY_ROUNDED), Query::TriTri, &[(a, b)]);
+        assert!(!(ok[0] && d[0] == 0.0), "{isa:?}: certified 0 in the mode");
+        checked += 1;
+    }
+    assert!(checked >= 1);
+}

@@ -220,6 +220,32 @@ fn at_shared_vertex<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], mut o: FastOut<L>)
     o
 }
 
+/// A stage's answer at a vertex the input triangles `a`, `b` share (every coordinate equal,
+/// compared before the local frame, so the test is exact: equal local coordinates alone do
+/// not prove equal points, the frame's differences being rounded) made an exact interval
+/// `[0, 0]` where the stage answered 0: the distance is 0, proven. So the correctly rounded
+/// mode decides mesh neighbours from the f64 pass alone, without a proof of its own per pair.
+/// Only lanes the stage answered 0 (`lo = 0`) can share a vertex (equal points have equal
+/// local coordinates, which both stages answer 0), so other vectors cost one compare.
+#[inline(always)]
+pub(crate) fn exact_at_shared_vertex<L: Lanes>(
+    a: &[V3<L>; 3],
+    b: &[V3<L>; 3],
+    mut o: FastOut<L>,
+) -> FastOut<L> {
+    let z = Cx::of(o.lo).zero();
+    let zero = o.r.d.eq(z);
+    if !zero.any() {
+        return o;
+    }
+    if let Some((shared, _)) = shared_vertex(a, b) {
+        let exact = shared.and(zero);
+        o.lo = L::select(exact, z, o.lo);
+        o.hi = L::select(exact, z, o.hi);
+    }
+    o
+}
+
 /// A vertex `x` of `t` over the face of `s` (`s[0] = 0`): its squared distance to the point
 /// `l1 s_1 + l2 s_2` of the face with the barycentric weights `(l1, l2)` from the inside values
 /// `wa` (`+inf` unless inside, and the face not degenerate).

@@ -443,10 +443,11 @@ pub(crate) fn unscale<L: Lanes>(r: Res<L>, lo: L, hi: L, ok: L::M, sc: &Scaled<L
     // below 2^-150 and is then multiplied by p < 1 again, far below the final rounding. So the
     // result is the correctly rounded d*p^2 except in double-rounding ties.
     let d = r.d.mul(p).mul(p);
-    // lo*p, hi*p are exact unless subnormal; then one subnormal step keeps them outward.
+    // lo*p, hi*p are exact unless subnormal; then one subnormal step keeps them outward. (An
+    // exact `hi` of 0, a proven contact, stays exact.)
     let tiny = k.splat(<L::S as crate::real::sealed::Sealed>::TINY);
     let lo = lo.mul(p).sub(tiny).max(k.zero());
-    let hi = hi.mul(p).add(tiny);
+    let hi = L::select(hi.eq(k.zero()), hi, hi.mul(p).add(tiny));
     // The answer kept between the squares of `lo` and `hi`, each rounded once, so that it is
     // the square of a distance in the interval (the tolerance's guarantee). Clamped here, in
     // the caller's units, not before unscaling: where everything is normal the two give the

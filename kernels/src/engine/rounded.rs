@@ -21,10 +21,11 @@ use crate::real::{Precision, Real};
 use crate::types::{Interval, PathCounts, Point};
 
 /// Pairs answered per block: the f64 copies and answers of a block are held at once.
-const BLOCK: usize = 8192;
+const BLOCK: usize = 1024;
 
 /// The value of `T` that every square in `[lo^2, hi^2]` rounds to (to nearest), when there is
 /// one: `lo <= hi` bound a distance (f64, non-negative, certified).
+#[inline(always)]
 fn decide<T: Real>(lo: f64, hi: f64) -> Option<T> {
     if !(lo >= 0.0 && lo <= hi) {
         return None;
@@ -45,6 +46,7 @@ fn decide<T: Real>(lo: f64, hi: f64) -> Option<T> {
 
 /// The value of `T` that every distance in `[lo, hi]` rounds to (to nearest), when there is
 /// one: `lo <= hi` bound a distance (f64, non-negative, certified).
+#[inline(always)]
 fn decide_distance<T: Real>(lo: f64, hi: f64) -> Option<T> {
     if !(lo >= 0.0 && lo <= hi) {
         return None;
@@ -158,8 +160,8 @@ impl Engine {
     fn answers64<T: Real>(&self, job: &Job<'_, T>, query: Query, ids: &[usize], r: &mut Answers64) {
         let (ka, kb) = (job.a.k(), job.b.k());
         let n = ids.len();
-        widen_into(&job.a, ka, ids, &mut r.fa);
-        widen_into(&job.b, kb, ids, &mut r.fb);
+        let a = widen(&job.a, ka, ids, &mut r.fa);
+        let b = widen(&job.b, kb, ids, &mut r.fb);
         r.d.resize(n, 0.0);
         r.iv.resize(n, Interval::default());
         let points = job.sink.cp.is_some() || job.sink.p.is_some() || job.sink.q.is_some();
@@ -167,8 +169,8 @@ impl Engine {
         r.q.resize(if points { n } else { 0 }, [0.0; 3]);
         let sub = Job {
             query,
-            a: Src::Aos { flat: &r.fa, k: ka },
-            b: Src::Aos { flat: &r.fb, k: kb },
+            a,
+            b,
             n,
             prm: self.params_of_checked::<f64>(),
             sink: Sink {
@@ -188,6 +190,7 @@ impl Engine {
 
 /// Writes pair `i`'s answer (within-margin: `+inf` beyond the margin, on the rounded square,
 /// for the distance too).
+#[inline(always)]
 fn put<T: Real>(job: &mut Job<'_, T>, i: usize, r: Rounded<T>) {
     let lane = post(job.query, job.prm.margin, r.lane);
     job.sink.put(i, &lane);
@@ -201,6 +204,7 @@ fn put<T: Real>(job: &mut Job<'_, T>, i: usize, r: Rounded<T>) {
 /// Pair `i`'s answer from its f64 answer (number `m` of `r`): `Ok` with the decided square
 /// and (when the job writes distances) distance, or NaN for non-finite input; `Err` with the
 /// f64 answer rounded once when undecided.
+#[inline(always)]
 fn rounded_lane<T: Real>(
     job: &Job<'_, T>,
     i: usize,
@@ -210,12 +214,12 @@ fn rounded_lane<T: Real>(
 ) -> Result<Rounded<T>, Rounded<T>> {
     let (d, iv) = (r.d[m], r.iv[m]);
     let cv = |x: f64| T::from_f64(x);
-    let (lo, hi) = outward::<T, f64>(iv);
-    // (closest points only when the job writes them)
+    // (the interval, closest points and distance only when the job writes them)
+    let (lo, hi) = if job.sink.iv.is_some() { outward::<T, f64>(iv) } else { (T::ZERO, T::ZERO) };
     let (p, q) =
         (r.p.get(m).map_or([T::ZERO; 3], |x| x.map(cv)), r.q.get(m).map_or([T::ZERO; 3], |x| x.map(cv)));
     let lane = Lane { d: cv(d), p, q, lo, hi, ok: true, it: 0 };
-    let dist = cv(d.sqrt());
+    let dist = if job.sink.dist.is_some() { cv(d.sqrt()) } else { T::ZERO };
     if d.is_nan() {
         // non-finite input: NaN, as in every mode
         return Ok(Rounded { lane: Lane { ok: false, ..lane }, dist });
@@ -226,15 +230,21 @@ fn rounded_lane<T: Real>(
     }
     // A contact: an interval from 0 decides nothing, a proof that the distance is 0 does: a
     // point the primitives share (mesh neighbours), or an edge crossing a triangle.
-    if iv.lo == 0.0 {
-        let (a, b) = (prim64(&job.a, i), prim64(&job.b, i));
-        let (ka, kb) = (job.a.k(), job.b.k());
-        if a[..ka].iter().any(|p| b[..kb].contains(p)) || (ka == 3 && kb == 3 && crossing(&a, &b)) {
-            counts.crossed += 1;
-            return Ok(Rounded { lane: Lane { d: T::ZERO, ..lane }, dist: T::ZERO });
-        }
+    if iv.lo == 0.0 && contact(job, i) {
+        counts.crossed += 1;
+        return Ok(Rounded { lane: Lane { d: T::ZERO, ..lane }, dist: T::ZERO });
     }
     Err(Rounded { lane: Lane { ok: false, ..lane }, dist })
+}
+
+/// Is pair `i` of `job` provably in contact: a point the primitives share, or an edge crossing
+/// a triangle? (Out of line: the f64 pass proves the shared vertices of triangle pairs itself,
+/// with an exact interval, so this runs for crossings and for the other queries' contacts.)
+#[inline(never)]
+fn contact<T: Real>(job: &Job<'_, T>, i: usize) -> bool {
+    let (a, b) = (prim64(&job.a, i), prim64(&job.b, i));
+    let (ka, kb) = (job.a.k(), job.b.k());
+    a[..ka].iter().any(|p| b[..kb].contains(p)) || (ka == 3 && kb == 3 && crossing(&a, &b))
 }
 
 /// Primitive `i` of `s` in f64 (exact; points beyond its arity repeat the first).
@@ -242,25 +252,43 @@ fn prim64<T: Real>(s: &Src<'_, T>, i: usize) -> [[f64; 3]; 3] {
     s.prim(i).map(|p| p.map(|x| x.to_f64()))
 }
 
-/// Appends the coordinates of primitives `ids` of `s` (`k` points each) to `out`, in f64.
-fn widen_into<T: Real>(s: &Src<'_, T>, k: usize, ids: &[usize], out: &mut Vec<f64>) {
+/// Primitives `ids` of `s` (`k` points each, `ids` increasing) widened to f64 in `out` (its
+/// buffer reused from block to block), as the source the f64 pass reads. A run of consecutive
+/// pairs (the first pass of a block) is widened a column (SoA) or a slice (AoS) at a time, as
+/// vectors: per pair and coordinate, the copy took a third of the mode's time on mesh
+/// neighbours. SoA columns are padded to whole vectors with copies of the last primitive, as
+/// a batch's are.
+fn widen<'o, T: Real>(s: &Src<'_, T>, k: usize, ids: &[usize], out: &'o mut Vec<f64>) -> Src<'o, f64> {
     out.clear();
-    out.reserve(ids.len() * 3 * k);
+    let n = ids.len();
+    let run = n > 0 && ids[n - 1] - ids[0] + 1 == n;
     match *s {
-        Src::Aos { flat, .. } => {
-            for &i in ids {
-                out.extend(flat[i * 3 * k..(i + 1) * 3 * k].iter().map(|x| x.to_f64()));
+        Src::Soa { data, cap, base, .. } if run => {
+            let wide = n.next_multiple_of(crate::batch::PAD);
+            out.reserve(3 * k * wide);
+            for j in 0..3 * k {
+                let from = &data[j * cap + base + ids[0]..][..n];
+                out.extend(from.iter().map(|x| x.to_f64()));
+                let last = from[n - 1].to_f64();
+                out.extend(std::iter::repeat_n(last, wide - n));
             }
+            Src::Soa { data: out, cap: wide, base: 0, k }
+        }
+        Src::Aos { flat, .. } if run => {
+            out.extend(flat[ids[0] * 3 * k..(ids[0] + n) * 3 * k].iter().map(|x| x.to_f64()));
+            Src::Aos { flat: out, k }
         }
         Src::One { flat, .. } => {
-            for _ in ids {
-                out.extend(flat[..3 * k].iter().map(|x| x.to_f64()));
-            }
+            // one primitive against every one of the other side: widened once
+            out.extend(flat[..3 * k].iter().map(|x| x.to_f64()));
+            Src::One { flat: out, k }
         }
-        Src::Soa { .. } => {
+        _ => {
+            out.reserve(n * 3 * k);
             for &i in ids {
                 out.extend((0..3 * k).map(|j| s.at(i, j).to_f64()));
             }
+            Src::Aos { flat: out, k }
         }
     }
 }
