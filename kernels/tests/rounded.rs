@@ -439,26 +439,15 @@ fn overflowing_squares_have_finite_distances() {
     }
 }
 
-/// Triangle pairs that share an input vertex are answered by the pipeline itself with the
-/// exact interval `[0, 0]` (what decides mesh neighbours in the mode without a proof per pair),
+/// Triangle pairs that share an input vertex are decided in the mode by its f64 pass itself
+/// (an exact interval `[0, 0]`), not by a proof of contact per pair (`PathCounts::crossed`),
 /// on every variant and in both precisions; and only those: two vertices 1 apart, 1e17 from
-/// the local frame's origin, which the frame rounds to one point, keep an interval that holds
-/// their distance 1, and the mode does not certify 0 for them.
+/// the local frame's origin, which the frame rounds to one point, are not certified 0 by the
+/// mode, and their interval at the default tolerance holds their distance 1.
 #[test]
 fn only_a_vertex_shared_in_the_input_gives_an_exact_zero() {
     use tridist::Interval;
-    fn intervals<T: Real>(e: Engine, pairs: &[(Triangle<T>, Triangle<T>)]) -> Vec<Interval<T>> {
-        let a: Vec<Triangle<T>> = pairs.iter().map(|p| p.0).collect();
-        let b: Vec<Triangle<T>> = pairs.iter().map(|p| p.1).collect();
-        let (mut d, mut iv) = (vec![T::ZERO; a.len()], vec![Interval::default(); a.len()]);
-        e.run(Query::TriTri, &a, &b, Outputs::new().sqdist(&mut d).intervals(&mut iv))
-            .expect("a valid batch");
-        for (x, i) in d.iter().zip(&iv) {
-            assert!(i.lo * i.lo <= *x && *x <= i.hi * i.hi || i.lo == i.hi, "{x:?} outside {i:?}");
-        }
-        iv
-    }
-    fn shared<T: Real>() -> Vec<(Triangle<T>, Triangle<T>)> {
+    fn shared<T: Real>() -> (Vec<Triangle<T>>, Vec<Triangle<T>>) {
         let mut r = Rng(5);
         (0..64)
             .map(|i| {
@@ -467,25 +456,33 @@ fn only_a_vertex_shared_in_the_input_gives_an_exact_zero() {
                 b[i % 3] = a[(i / 3) % 3];
                 (a, b)
             })
-            .collect()
+            .unzip()
+    }
+    fn decided_by_the_pass<T: Real + std::fmt::Debug>(e: &Engine) {
+        let (a, b) = shared::<T>();
+        let (mut d, mut ok) = (vec![T::ONE; a.len()], vec![false; a.len()]);
+        let c = e
+            .run(Query::TriTri, &a, &b, Outputs::new().sqdist(&mut d).certified(&mut ok))
+            .expect("a valid batch");
+        assert!(d.iter().zip(&ok).all(|(d, ok)| *ok && *d == T::ZERO), "{e:?}: {d:?}");
+        assert_eq!((c.crossed, c.undecided), (0, 0), "{e:?}: proven per pair");
     }
     let mut checked = 0;
     for isa in Isa::ALL {
         let Ok(e) = Engine::new(isa) else { continue };
-        for iv in intervals(e, &shared::<f32>()) {
-            assert_eq!((iv.lo, iv.hi), (0.0, 0.0), "{isa:?} f32");
-        }
-        for iv in intervals(e, &shared::<f64>()) {
-            assert_eq!((iv.lo, iv.hi), (0.0, 0.0), "{isa:?} f64");
-        }
+        decided_by_the_pass::<f32>(&e.tolerance(Tolerance::CORRECTLY_ROUNDED));
+        decided_by_the_pass::<f64>(&e.tolerance(Tolerance::CORRECTLY_ROUNDED));
         // a's vertex (0, 0, 0) and b's (-1, 0, 0), 1 apart, both 1e17 - 0 and 1e17 + 1 from
         // a's first vertex: the same local point (f64's spacing there is 16)
         let a = [[1e17, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         let b = [[-1.0, 0.0, 0.0], [-1.0, 0.0, 1.0], [-1.0, 1.0, 0.0]];
-        let iv = intervals(e, &[(a, b)])[0];
-        assert!(iv.lo <= 1.0 && 1.0 <= iv.hi, "{isa:?}: {iv:?} misses the distance 1");
         let (d, _, ok, _) = run(&e.tolerance(Tolerance::CORRECTLY_ROUNDED), Query::TriTri, &[(a, b)]);
         assert!(!(ok[0] && d[0] == 0.0), "{isa:?}: certified 0 in the mode");
+        let (mut d, mut iv) = (vec![0.0f64], vec![Interval::default()]);
+        let (av, bv): (Vec<Triangle<f64>>, Vec<Triangle<f64>>) = (vec![a], vec![b]);
+        e.run(Query::TriTri, &av, &bv, Outputs::new().sqdist(&mut d).intervals(&mut iv))
+            .expect("a valid pair");
+        assert!(iv[0].lo <= 1.0 && 1.0 <= iv[0].hi, "{isa:?}: {:?} misses the distance 1", iv[0]);
         checked += 1;
     }
     assert!(checked >= 1);

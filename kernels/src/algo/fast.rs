@@ -224,7 +224,8 @@ fn at_shared_vertex<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], mut o: FastOut<L>)
 /// compared before the local frame, so the test is exact: equal local coordinates alone do
 /// not prove equal points, the frame's differences being rounded) made an exact interval
 /// `[0, 0]` where the stage answered 0: the distance is 0, proven. So the correctly rounded
-/// mode decides mesh neighbours from the f64 pass alone, without a proof of its own per pair.
+/// mode decides mesh neighbours from the f64 pass alone, without a proof of its own per pair
+/// (only there: [`super::Params::exact_shared`]).
 /// Only lanes the stage answered 0 (`lo = 0`) can share a vertex (equal points have equal
 /// local coordinates, which both stages answer 0), so other vectors cost one compare.
 #[inline(always)]

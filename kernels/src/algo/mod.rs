@@ -94,6 +94,11 @@ pub(crate) struct Params<S> {
     /// Triangle-triangle distance runs its quick stage first ([`crate::Engine::quick_stage`]);
     /// off, every pair goes straight to the full fast stage.
     pub quick: bool,
+    /// Triangle-triangle distance answers a vertex the input triangles share with the exact
+    /// interval `[0, 0]` ([`fast::exact_at_shared_vertex`]): set by the correctly rounded mode's
+    /// f64 pass only, where it replaces a proof per pair (the compare costs the default
+    /// tolerance 7-14 % on mesh neighbours, which it does not need).
+    pub exact_shared: bool,
 }
 
 impl<S: Real> Params<S> {
@@ -114,6 +119,7 @@ impl<S: Real> Params<S> {
                 start: p.start.map(c),
             },
             quick: self.quick,
+            exact_shared: self.exact_shared,
         }
     }
 }

@@ -31,7 +31,7 @@ impl Kernel for TriTri {
             // stage (all 15 candidates and contact), in the same local frame
             let (ls, lt, o) = local_pair(a, b, &sc);
             let f = if ST == 0 { tri_tri_quick(&ls, &lt) } else { tri_tri_fast(&ls, &lt) };
-            let f = exact_at_shared_vertex(a, b, f);
+            let f = if prm.exact_shared { exact_at_shared_vertex(a, b, f) } else { f };
             conclude(&sc, f.lo, f.hi, Some(o), f.r, prm, f.sharp)
         } else {
             let (r, undecided) = tri_tri_pqp(&s, &t);

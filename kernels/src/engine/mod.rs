@@ -333,6 +333,7 @@ impl Engine {
             tol_rel: c(self.tol.relative),
             penalty: penalty.params(),
             quick: self.quick,
+            exact_shared: false,
         }
     }
 

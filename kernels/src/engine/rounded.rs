@@ -15,6 +15,7 @@
 //! [`PathCounts::undecided`] (and `uncertified`), never passed off as correctly rounded.
 
 use super::{Engine, Tolerance};
+use crate::algo::Params;
 use crate::drv::{beyond_margin, outward, post, Job, Lane, Sink, Src};
 use crate::query::Query;
 use crate::real::{Precision, Real};
@@ -172,7 +173,8 @@ impl Engine {
             a,
             b,
             n,
-            prm: self.params_of_checked::<f64>(),
+            // (shared vertices proven by the pass itself, with an exact interval)
+            prm: Params { exact_shared: true, ..self.params_of_checked::<f64>() },
             sink: Sink {
                 d: Some(&mut r.d[..n]),
                 p: if points { Some(&mut r.p[..n]) } else { None },
