@@ -439,8 +439,9 @@ fn overflowing_squares_have_finite_distances() {
     }
 }
 
-/// Triangle pairs that share an input vertex are decided in the mode by its f64 pass itself
-/// (an exact interval `[0, 0]`), not by a proof of contact per pair (`PathCounts::crossed`),
+/// Triangle pairs that share an input vertex, or where an edge of one crosses the other's
+/// interior, are decided in the mode by its f64 pass itself (an exact interval `[0, 0]`), not
+/// by a proof of contact per pair (`PathCounts::crossed`),
 /// on every variant and in both precisions; and only those: two vertices 1 apart, 1e17 from
 /// the local frame's origin, which the frame rounds to one point, are not certified 0 by the
 /// mode, and their interval at the default tolerance holds their distance 1.
@@ -458,8 +459,28 @@ fn only_a_vertex_shared_in_the_input_gives_an_exact_zero() {
             })
             .unzip()
     }
+    /// Pairs whose triangle `b` has an edge through the interior of `a` (well inside it).
+    fn crossing<T: Real>() -> (Vec<Triangle<T>>, Vec<Triangle<T>>) {
+        let mut r = Rng(9);
+        (0..64)
+            .map(|_| {
+                let mut f = || r.f() * 2.0 - 1.0;
+                let a = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+                let (x, y) = (0.2 + 0.2 * f().abs(), 0.2 + 0.2 * f().abs());
+                let b = [
+                    [x, y, -0.5 - f().abs()],
+                    [x + 0.1 * f(), y + 0.1 * f(), 0.5 + f().abs()],
+                    [f() + 2.0, f(), f()],
+                ];
+                let c = |t: [[f64; 3]; 3]| t.map(|p| p.map(T::from_f64));
+                (c(a), c(b))
+            })
+            .unzip()
+    }
     fn decided_by_the_pass<T: Real + std::fmt::Debug>(e: &Engine) {
         let (a, b) = shared::<T>();
+        let (ca, cb) = crossing::<T>();
+        let (a, b) = ([a, ca].concat(), [b, cb].concat());
         let (mut d, mut ok) = (vec![T::ONE; a.len()], vec![false; a.len()]);
         let c = e
             .run(Query::TriTri, &a, &b, Outputs::new().sqdist(&mut d).certified(&mut ok))

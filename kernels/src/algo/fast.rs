@@ -43,6 +43,9 @@ pub(crate) struct FastOut<L: Lanes> {
     /// Is the answer sharp: the closest pair as far as the arithmetic can tell (see
     /// [`tri_tri_quick`] and [`certified`])?
     pub sharp: L::M,
+    /// The candidate's code ([`Best`]'s; 0 from the quick stage): 15-20 name the edge of a
+    /// contact candidate, which [`prove_crossing`] tests.
+    pub code: L,
 }
 
 /// Static rounding bound of any candidate's witness difference, in units of `u R`: an edge
@@ -225,7 +228,7 @@ fn at_shared_vertex<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], mut o: FastOut<L>)
 /// not prove equal points, the frame's differences being rounded) made an exact interval
 /// `[0, 0]` where the stage answered 0: the distance is 0, proven. So the correctly rounded
 /// mode decides mesh neighbours from the f64 pass alone, without a proof of its own per pair
-/// (only there: [`super::Params::exact_shared`]).
+/// (only there: [`super::Params::exact_contacts`]).
 /// Only lanes the stage answered 0 (`lo = 0`) can share a vertex (equal points have equal
 /// local coordinates, which both stages answer 0), so other vectors cost one compare.
 #[inline(always)]
@@ -245,6 +248,71 @@ pub(crate) fn exact_at_shared_vertex<L: Lanes>(
         o.hi = L::select(exact, z, o.hi);
     }
     o
+}
+
+/// A contact candidate of the full fast stage (code 15-20: an edge of one input triangle
+/// crossing the other) made an exact interval `[0, 0]` where the crossing is proven: the
+/// edge's ends strictly on either side of the other triangle's plane, and its line strictly
+/// inside that triangle's three edges, each sign by [`orient3d`] on the input coordinates
+/// (the test of the mode's per-pair proof, `engine::rounded::crossing`, on the one edge the
+/// stage names). f64 only (the static error bound is f64's); the mode's f64 pass asks for it
+/// ([`super::Params::exact_contacts`]), where it replaces that scalar proof for most
+/// intersecting pairs.
+#[inline(always)]
+pub(crate) fn prove_crossing<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3], mut o: FastOut<L>) -> FastOut<L> {
+    let k = Cx::of(o.lo);
+    let z = k.zero();
+    let maybe = o.code.ge(k.c(15.0)).and(o.r.d.eq(z)).and(o.hi.gt(z));
+    if L::S::PRECISION != crate::real::Precision::F64 || !maybe.any() {
+        return o;
+    }
+    // the edge (its index j) of t = b crossing s = a (codes 15-17), or of a crossing b (18-20)
+    let of_a = o.code.ge(k.c(18.0));
+    let j = o.code.sub(L::select(of_a, k.c(18.0), k.c(15.0)));
+    let (j1, j2) = (j.eq(k.one()), j.eq(k.c(2.0)));
+    let (n1, n2) = (j.eq(k.zero()), j1); // the edge's second vertex: index j + 1 mod 3
+    let (ea, eb) = ((pick(j1, j2, a), pick(n1, n2, a)), (pick(j1, j2, b), pick(n1, n2, b)));
+    let (p, q) = (V3::select(of_a, ea.0, eb.0), V3::select(of_a, ea.1, eb.1));
+    let u = [V3::select(of_a, b[0], a[0]), V3::select(of_a, b[1], a[1]), V3::select(of_a, b[2], a[2])];
+    let (sp, sq) = (orient3d(u[0], u[1], u[2], p), orient3d(u[0], u[1], u[2], q));
+    let apart = sp.0.and(sq.1).or(sp.1.and(sq.0));
+    let e0 = orient3d(p, q, u[0], u[1]);
+    let e1 = orient3d(p, q, u[1], u[2]);
+    let e2 = orient3d(p, q, u[2], u[0]);
+    let inside = e0.0.and(e1.0).and(e2.0).or(e0.1.and(e1.1).and(e2.1));
+    let proven = maybe.and(apart).and(inside);
+    o.lo = L::select(proven, z, o.lo);
+    o.hi = L::select(proven, z, o.hi);
+    o
+}
+
+/// The sign of `det[a - d, b - d, c - d]` where the floating-point value proves it, as masks
+/// (positive, negative; neither: not proven): Shewchuk's static error bound of `orient3d`
+/// (`o3derrboundA = (7 + 56u) u` for f64, covering the rounded differences), on differences
+/// in `[1e-80, 1e80]` or zero, so that no product underflows or overflows. The lane form of
+/// `engine::rounded::orient3d`, evaluated in the same order (no fused operations).
+#[inline(always)]
+fn orient3d<L: Lanes>(a: V3<L>, b: V3<L>, c: V3<L>, d: V3<L>) -> (L::M, L::M) {
+    let k = Cx::of(a.x);
+    let (ad, bd, cd) = (a.sub(d), b.sub(d), c.sub(d));
+    let (small, big) = (k.c(1e-80), k.c(1e80));
+    let mut safe = k.yes();
+    for x in [ad.x, ad.y, ad.z, bd.x, bd.y, bd.z, cd.x, cd.y, cd.z] {
+        let m = x.abs();
+        safe = safe.and(m.eq(k.zero()).or(m.ge(small).and(m.le(big))));
+    }
+    let (bc, cb) = (bd.y.mul(cd.z), bd.z.mul(cd.y));
+    let (ca, ac) = (cd.y.mul(ad.z), cd.z.mul(ad.y));
+    let (ab, ba) = (ad.y.mul(bd.z), ad.z.mul(bd.y));
+    let det = ad.x.mul(bc.sub(cb)).add(bd.x.mul(ca.sub(ac))).add(cd.x.mul(ab.sub(ba)));
+    let perm = bc
+        .abs()
+        .add(cb.abs())
+        .mul(ad.x.abs())
+        .add(ca.abs().add(ac.abs()).mul(bd.x.abs()))
+        .add(ab.abs().add(ba.abs()).mul(cd.x.abs()));
+    let bound = k.c(7.771_561_172_376_103e-16).mul(perm);
+    (safe.and(det.gt(bound)), safe.and(det.neg().gt(bound)))
 }
 
 /// A vertex `x` of `t` over the face of `s` (`s[0] = 0`): its squared distance to the point
@@ -343,7 +411,7 @@ pub(crate) fn tri_tri_quick<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3]) -> FastOut
     // E 51, beyond the target of 8; needles: E 3.2; found by the differential and mesh
     // suites); an intersecting pair needs the full stage's contact candidate.
     let sharp = wn.sub(gv).le(k.u().mul(k.c(SHARP))).and(lo.gt(z).or(shared));
-    FastOut { r: Res { d, p, q }, lo, hi, sharp }
+    FastOut { r: Res { d, p, q }, lo, hi, sharp, code: z }
 }
 
 /// Is one of the points `xs` also one of `ys` (every coordinate equal), and the first such
@@ -517,7 +585,7 @@ fn certified<L: Lanes>(
     let near = k.u().mul(k.c(SHARP_E));
     let met = w.norm2().le(near.mul(near));
     let sharp = excess.le(near).or(best.code.ge(k.c(15.0)).and(met));
-    FastOut { r: Res { d, p, q }, lo, hi, sharp }
+    FastOut { r: Res { d, p, q }, lo, hi, sharp, code: best.code }
 }
 
 /// The certificate of a candidate with witness difference `w` (of parametric points on the

@@ -94,11 +94,12 @@ pub(crate) struct Params<S> {
     /// Triangle-triangle distance runs its quick stage first ([`crate::Engine::quick_stage`]);
     /// off, every pair goes straight to the full fast stage.
     pub quick: bool,
-    /// Triangle-triangle distance answers a vertex the input triangles share with the exact
-    /// interval `[0, 0]` ([`fast::exact_at_shared_vertex`]): set by the correctly rounded mode's
-    /// f64 pass only, where it replaces a proof per pair (the compare costs the default
-    /// tolerance 7-14 % on mesh neighbours, which it does not need).
-    pub exact_shared: bool,
+    /// Triangle-triangle distance answers proven contacts with the exact interval `[0, 0]`: a
+    /// vertex the input triangles share ([`fast::exact_at_shared_vertex`]) and, in f64, an edge
+    /// crossing the other triangle ([`fast::prove_crossing`]). Set by the correctly rounded
+    /// mode's f64 pass only, where it replaces a proof per pair (the compare alone cost the
+    /// default tolerance 7-14 % on mesh neighbours, which it does not need).
+    pub exact_contacts: bool,
 }
 
 impl<S: Real> Params<S> {
@@ -119,7 +120,7 @@ impl<S: Real> Params<S> {
                 start: p.start.map(c),
             },
             quick: self.quick,
-            exact_shared: self.exact_shared,
+            exact_contacts: self.exact_contacts,
         }
     }
 }

@@ -7,7 +7,7 @@
 //! pairs whose certificate was too wide, gathered into full vectors, and the brute-force kernel
 //! ([`super::brute`]) on the pairs this stage leaves undecided or too wide.
 
-use super::fast::{exact_at_shared_vertex, tri_tri_fast, tri_tri_quick};
+use super::fast::{exact_at_shared_vertex, prove_crossing, tri_tri_fast, tri_tri_quick};
 use super::point_tri::point_triangle;
 use super::seg_seg::seg_seg;
 use super::{conclude, edges, finish, keep_min, local_pair, scale_pair, sharp_tight, swap, Kernel, Out, Params, Res, SelectExt};
@@ -31,7 +31,7 @@ impl Kernel for TriTri {
             // stage (all 15 candidates and contact), in the same local frame
             let (ls, lt, o) = local_pair(a, b, &sc);
             let f = if ST == 0 { tri_tri_quick(&ls, &lt) } else { tri_tri_fast(&ls, &lt) };
-            let f = if prm.exact_shared { exact_at_shared_vertex(a, b, f) } else { f };
+            let f = if prm.exact_contacts { prove_crossing(a, b, exact_at_shared_vertex(a, b, f)) } else { f };
             conclude(&sc, f.lo, f.hi, Some(o), f.r, prm, f.sharp)
         } else {
             let (r, undecided) = tri_tri_pqp(&s, &t);

@@ -333,7 +333,7 @@ impl Engine {
             tol_rel: c(self.tol.relative),
             penalty: penalty.params(),
             quick: self.quick,
-            exact_shared: false,
+            exact_contacts: false,
         }
     }
 

@@ -174,7 +174,7 @@ impl Engine {
             b,
             n,
             // (shared vertices proven by the pass itself, with an exact interval)
-            prm: Params { exact_shared: true, ..self.params_of_checked::<f64>() },
+            prm: Params { exact_contacts: true, ..self.params_of_checked::<f64>() },
             sink: Sink {
                 d: Some(&mut r.d[..n]),
                 p: if points { Some(&mut r.p[..n]) } else { None },
@@ -240,8 +240,9 @@ fn rounded_lane<T: Real>(
 }
 
 /// Is pair `i` of `job` provably in contact: a point the primitives share, or an edge crossing
-/// a triangle? (Out of line: the f64 pass proves the shared vertices of triangle pairs itself,
-/// with an exact interval, so this runs for crossings and for the other queries' contacts.)
+/// a triangle? (Out of line: the f64 pass proves the shared vertices and most crossings of
+/// triangle pairs itself, with an exact interval, so this runs for the crossings it leaves and
+/// for the other queries' contacts.)
 #[inline(never)]
 fn contact<T: Real>(job: &Job<'_, T>, i: usize) -> bool {
     let (a, b) = (prim64(&job.a, i), prim64(&job.b, i));
