@@ -229,8 +229,8 @@ fn at_shared_vertex<L: Lanes>(s: &[V3<L>; 3], t: &[V3<L>; 3], mut o: FastOut<L>)
 /// `[0, 0]` where the stage answered 0: the distance is 0, proven. So the correctly rounded
 /// mode decides mesh neighbours from the f64 pass alone, without a proof of its own per pair
 /// (only there: [`super::Params::exact_contacts`]).
-/// Only lanes the stage answered 0 (`lo = 0`) can share a vertex (equal points have equal
-/// local coordinates, which both stages answer 0), so other vectors cost one compare.
+/// Only lanes the stage answered 0 can share a vertex (equal points have equal local
+/// coordinates, which both stages answer 0), so other vectors cost one compare.
 #[inline(always)]
 pub(crate) fn exact_at_shared_vertex<L: Lanes>(
     a: &[V3<L>; 3],
