@@ -124,9 +124,12 @@ pub struct PathCounts {
     /// neither the f64 interval nor the exact oracle (off or not compiled in) decided,
     /// answered with their f64 answer rounded once (also counted in `uncertified`).
     pub undecided: u64,
-    /// Under [`crate::Tolerance::CORRECTLY_ROUNDED`]: pairs answered 0 by a proof of contact
-    /// where their interval could not decide: a point both primitives share, or an edge of one
-    /// triangle crossing the other's interior (orientation tests with a certified error bound).
+    /// Under [`crate::Tolerance::CORRECTLY_ROUNDED`]: pairs answered 0 by the mode's per-pair
+    /// proof of contact where their interval could not decide: a point both primitives share,
+    /// or an edge of one triangle crossing the other's interior (orientation tests with a
+    /// certified error bound). Triangle pairs whose shared vertex, or the crossing its fast
+    /// stage names, the mode's f64 pass proves itself get an exact interval and are not
+    /// counted here (nearly every such pair: this counts what that pass leaves).
     pub crossed: u64,
 }
 
