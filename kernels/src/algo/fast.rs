@@ -289,10 +289,11 @@ pub(crate) fn prove_crossing<L: Lanes>(a: &[V3<L>; 3], b: &[V3<L>; 3], mut o: Fa
 /// The sign of `det[a - d, b - d, c - d]` where the floating-point value proves it, as masks
 /// (positive, negative; neither: not proven): Shewchuk's static error bound of `orient3d`
 /// (`o3derrboundA = (7 + 56u) u` for f64, covering the rounded differences), on differences
-/// in `[1e-80, 1e80]` or zero, so that no product underflows or overflows. The lane form of
-/// `engine::rounded::orient3d`, evaluated in the same order (no fused operations).
+/// in `[1e-80, 1e80]` or zero, so that no product underflows or overflows. No fused
+/// operations, so the bound holds on every instruction set. (The mode's per-pair proof,
+/// `engine::rounded::orient3d`, is this on one lane.)
 #[inline(always)]
-fn orient3d<L: Lanes>(a: V3<L>, b: V3<L>, c: V3<L>, d: V3<L>) -> (L::M, L::M) {
+pub(crate) fn orient3d<L: Lanes>(a: V3<L>, b: V3<L>, c: V3<L>, d: V3<L>) -> (L::M, L::M) {
     let k = Cx::of(a.x);
     let (ad, bd, cd) = (a.sub(d), b.sub(d), c.sub(d));
     let (small, big) = (k.c(1e-80), k.c(1e80));

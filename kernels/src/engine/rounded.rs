@@ -17,6 +17,7 @@
 use super::{Engine, Tolerance};
 use crate::algo::Params;
 use crate::drv::{beyond_margin, outward, post, Job, Lane, Sink, Src};
+use crate::lanes::V3;
 use crate::query::Query;
 use crate::real::{Precision, Real};
 use crate::types::{Interval, PathCounts, Point};
@@ -301,31 +302,15 @@ fn widen<'o, T: Real>(s: &Src<'_, T>, k: usize, ids: &[usize], out: &'o mut Vec<
 }
 
 /// The sign of `det[a - d, b - d, c - d]` (positive: `d` below the plane of `a, b, c` seen
-/// counter-clockwise), when the floating-point value proves it: Shewchuk's static error bound
-/// of `orient3d` (his `o3derrboundA`, which covers the rounded differences), on differences in
-/// `[1e-80, 1e80]` or zero so that no product underflows or overflows. `None`: not proven.
+/// counter-clockwise), when the floating-point value proves it: the f64 pass's lane form
+/// ([`crate::algo::fast::orient3d`], Shewchuk's static bound on differences in `[1e-80,
+/// 1e80]` or zero) on one lane. `None`: not proven.
 fn orient3d(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> Option<i8> {
-    let diff = |p: &[f64; 3]| [p[0] - d[0], p[1] - d[1], p[2] - d[2]];
-    let (ad, bd, cd) = (diff(a), diff(b), diff(c));
-    let safe = |x: f64| x == 0.0 || (1e-80..=1e80).contains(&x.abs());
-    if !ad.iter().chain(&bd).chain(&cd).all(|&x| safe(x)) {
-        return None;
-    }
-    let (bc, cb) = (bd[1] * cd[2], bd[2] * cd[1]);
-    let (ca, ac) = (cd[1] * ad[2], cd[2] * ad[1]);
-    let (ab, ba) = (ad[1] * bd[2], ad[2] * bd[1]);
-    let det = ad[0] * (bc - cb) + bd[0] * (ca - ac) + cd[0] * (ab - ba);
-    let perm = (bc.abs() + cb.abs()) * ad[0].abs()
-        + (ca.abs() + ac.abs()) * bd[0].abs()
-        + (ab.abs() + ba.abs()) * cd[0].abs();
-    // (7 + 56 eps) eps, eps = 2^-53
-    let bound = 7.771_561_172_376_103e-16 * perm;
-    if det > bound {
-        Some(1)
-    } else if -det > bound {
-        Some(-1)
-    } else {
-        None
+    let v = |p: &[f64; 3]| V3::new(p[0], p[1], p[2]);
+    match crate::algo::fast::orient3d::<f64>(v(a), v(b), v(c), v(d)) {
+        (true, _) => Some(1),
+        (_, true) => Some(-1),
+        _ => None,
     }
 }
 
